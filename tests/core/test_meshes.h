@@ -1,0 +1,269 @@
+// Meshes built in the tests, the real models of Debian's libcgal-demo, and the invariants every
+// level must keep (docs/ALGORITHM.md), checked independently of the engine's own figures.
+#pragma once
+
+#include "gausslod/gausslod.h"
+#include "gausslod/vcg_adapter.h"
+
+#include <vcg/complex/algorithms/closest.h>
+#include <vcg/complex/algorithms/update/component_ep.h>
+#include <vcg/space/index/grid_static_ptr.h>
+#include <wrap/io_trimesh/import_off.h>
+
+#include <algorithm>
+#include <array>
+#include <map>
+#include <random>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace testmesh {
+
+class TVertex;
+class TFace;
+struct TUsedTypes : public vcg::UsedTypes<vcg::Use<TVertex>::AsVertexType, vcg::Use<TFace>::AsFaceType> {};
+class TVertex : public vcg::Vertex<TUsedTypes, vcg::vertex::Coord3d, vcg::vertex::Normal3d,
+                                   vcg::vertex::BitFlags> {};
+class TFace : public vcg::Face<TUsedTypes, vcg::face::VertexRef, vcg::face::Normal3d,
+                               vcg::face::Color4b, vcg::face::Mark, vcg::face::BitFlags> {};
+class TMesh : public vcg::tri::TriMesh<std::vector<TVertex>, std::vector<TFace>> {};
+
+inline std::string dataFile(const std::string &name) { return std::string(GAUSSLOD_DATA) + "/" + name; }
+
+inline gausslod::FlatMesh loadOff(const std::string &name)
+{
+	TMesh m;
+	int mask = 0;
+	const int err = vcg::tri::io::ImporterOFF<TMesh>::Open(m, dataFile(name).c_str(), mask);
+	if (err != 0)
+		throw std::runtime_error("cannot read " + dataFile(name));
+	return gausslod::flatten(m);
+}
+
+/// Axis-aligned cube [0,size]^3, each face an n x n grid of quads split in two, shared vertices.
+inline gausslod::FlatMesh gridCube(int n, double size = 1.0, double noise = 0.0, unsigned seed = 1)
+{
+	gausslod::FlatMesh m;
+	std::map<std::array<int, 3>, int32_t> index;
+	auto vert = [&](int x, int y, int z) {
+		auto it = index.find({x, y, z});
+		if (it != index.end())
+			return it->second;
+		const int32_t id = int32_t(m.positions.size() / 3);
+		index[{x, y, z}] = id;
+		m.positions.push_back(size * x / n);
+		m.positions.push_back(size * y / n);
+		m.positions.push_back(size * z / n);
+		return id;
+	};
+	// each cube face: axis a fixed at 0 or n, (b, c) span the grid, oriented outwards
+	for (int a = 0; a < 3; ++a)
+		for (int side = 0; side < 2; ++side)
+			for (int i = 0; i < n; ++i)
+				for (int j = 0; j < n; ++j) {
+					auto P = [&](int u, int v) {
+						int c[3];
+						c[a] = side * n;
+						c[(a + 1) % 3] = u;
+						c[(a + 2) % 3] = v;
+						return vert(c[0], c[1], c[2]);
+					};
+					int32_t q[4] = {P(i, j), P(i + 1, j), P(i + 1, j + 1), P(i, j + 1)};
+					if (side == 0)
+						std::swap(q[1], q[3]);
+					const int32_t t[6] = {q[0], q[1], q[2], q[0], q[2], q[3]};
+					m.triangles.insert(m.triangles.end(), t, t + 6);
+				}
+	if (noise > 0) {
+		std::mt19937 rng(seed);
+		std::uniform_real_distribution<double> u(-noise, noise);
+		for (double &x : m.positions)
+			x += u(rng);
+	}
+	return m;
+}
+
+/// Planar n x n grid in z=0 over [0,1]^2 with the square [lo,hi]^2 cut out.
+inline gausslod::FlatMesh gridWithHole(int n, int lo, int hi)
+{
+	gausslod::FlatMesh m;
+	for (int y = 0; y <= n; ++y)
+		for (int x = 0; x <= n; ++x) {
+			m.positions.push_back(double(x) / n);
+			m.positions.push_back(double(y) / n);
+			m.positions.push_back(0.0);
+		}
+	auto id = [&](int x, int y) { return int32_t(y * (n + 1) + x); };
+	for (int y = 0; y < n; ++y)
+		for (int x = 0; x < n; ++x) {
+			if (x >= lo && x < hi && y >= lo && y < hi)
+				continue;
+			const int32_t t[6] = {id(x, y), id(x + 1, y), id(x + 1, y + 1),
+			                      id(x, y), id(x + 1, y + 1), id(x, y + 1)};
+			m.triangles.insert(m.triangles.end(), t, t + 6);
+		}
+	return m;
+}
+
+using Vec3 = vcg::Point3d;
+
+inline Vec3 vpos(const std::vector<double> &P, int32_t v) { return Vec3(P[3 * v], P[3 * v + 1], P[3 * v + 2]); }
+
+/// Topological facts of a triangle mesh given as flat arrays.
+struct TopoFacts {
+	size_t faces = 0, usedVertices = 0, edges = 0;
+	size_t boundaryEdges = 0, nonManifoldEdges = 0, inconsistentEdges = 0;
+	size_t degenerateFaces = 0, duplicateFaces = 0, nonManifoldVertices = 0;
+	size_t components = 0, boundaryLoops = 0;
+	long euler = 0;
+	bool closedManifold() const
+	{
+		return boundaryEdges == 0 && nonManifoldEdges == 0 && inconsistentEdges == 0 &&
+		       nonManifoldVertices == 0;
+	}
+	long genus() const { return (2 * long(components) - euler) / 2; }
+};
+
+inline TopoFacts topoFacts(const std::vector<double> &P, const std::vector<int32_t> &T)
+{
+	TopoFacts r;
+	r.faces = T.size() / 3;
+	std::map<std::pair<int32_t, int32_t>, std::pair<int, int>> edges; // (min,max) -> (count, fwd)
+	std::set<std::array<int32_t, 3>> faces;
+	std::vector<int32_t> parent(P.size() / 3);
+	for (size_t i = 0; i < parent.size(); ++i)
+		parent[i] = int32_t(i);
+	std::function<int32_t(int32_t)> find = [&](int32_t x) {
+		while (parent[size_t(x)] != x)
+			x = parent[size_t(x)] = parent[size_t(parent[size_t(x)])];
+		return x;
+	};
+	std::set<int32_t> used;
+	for (size_t f = 0; f < r.faces; ++f) {
+		const int32_t a = T[3 * f], b = T[3 * f + 1], c = T[3 * f + 2];
+		const Vec3 n = (vpos(P, b) - vpos(P, a)) ^ (vpos(P, c) - vpos(P, a));
+		if (a == b || b == c || a == c || !(n.Norm() > 0))
+			++r.degenerateFaces;
+		std::array<int32_t, 3> key = {a, b, c};
+		std::sort(key.begin(), key.end());
+		if (!faces.insert(key).second)
+			++r.duplicateFaces;
+		for (int k = 0; k < 3; ++k) {
+			const int32_t u = T[3 * f + k], v = T[3 * f + (k + 1) % 3];
+			auto &e = edges[{std::min(u, v), std::max(u, v)}];
+			++e.first;
+			e.second += u < v;
+			used.insert(u);
+			parent[size_t(find(u))] = find(v);
+		}
+	}
+	r.usedVertices = used.size();
+	r.edges = edges.size();
+	std::map<int32_t, std::vector<int32_t>> boundaryAdj;
+	for (const auto &e : edges) {
+		if (e.second.first == 1) {
+			++r.boundaryEdges;
+			boundaryAdj[e.first.first].push_back(e.first.second);
+			boundaryAdj[e.first.second].push_back(e.first.first);
+		} else if (e.second.first > 2)
+			++r.nonManifoldEdges;
+		else if (e.second.second != 1)
+			++r.inconsistentEdges;
+	}
+	std::set<int32_t> roots;
+	for (int32_t v : used)
+		roots.insert(find(v));
+	r.components = roots.size();
+	r.euler = long(r.usedVertices) - long(r.edges) + long(r.faces);
+	// boundary loops: components of the boundary-edge graph
+	std::set<int32_t> seen;
+	for (const auto &kv : boundaryAdj) {
+		if (seen.count(kv.first))
+			continue;
+		++r.boundaryLoops;
+		std::vector<int32_t> stack{kv.first};
+		seen.insert(kv.first);
+		while (!stack.empty()) {
+			const int32_t v = stack.back();
+			stack.pop_back();
+			for (int32_t w : boundaryAdj[v])
+				if (seen.insert(w).second)
+					stack.push_back(w);
+		}
+	}
+	// non-manifold vertices: the faces around a vertex must form one fan (edge-connected)
+	std::map<int32_t, std::vector<size_t>> vf;
+	for (size_t f = 0; f < r.faces; ++f)
+		for (int k = 0; k < 3; ++k)
+			vf[T[3 * f + k]].push_back(f);
+	for (const auto &kv : vf) {
+		const int32_t v = kv.first;
+		const auto &fs = kv.second;
+		std::vector<int> comp(fs.size(), -1);
+		int ncomp = 0;
+		for (size_t i = 0; i < fs.size(); ++i) {
+			if (comp[i] >= 0)
+				continue;
+			std::vector<size_t> st{i};
+			comp[i] = ncomp;
+			while (!st.empty()) {
+				const size_t q = st.back();
+				st.pop_back();
+				for (size_t j = 0; j < fs.size(); ++j) {
+					if (comp[j] >= 0)
+						continue;
+					int shared = 0; // share an edge through v: a second common vertex
+					for (int a = 0; a < 3; ++a)
+						for (int b = 0; b < 3; ++b) {
+							const int32_t x = T[3 * fs[q] + a];
+							if (x != v && x == T[3 * fs[j] + b])
+								++shared;
+						}
+					if (shared > 0) {
+						comp[j] = ncomp;
+						st.push_back(j);
+					}
+				}
+			}
+			++ncomp;
+		}
+		if (ncomp > 1)
+			++r.nonManifoldVertices;
+	}
+	return r;
+}
+
+/// Output faces whose normal points away (>90 deg) from the input surface nearest their centroid.
+inline size_t flippedFaces(const gausslod::FlatMesh &input, const gausslod::LevelMesh &level)
+{
+	TMesh m;
+	auto vi = vcg::tri::Allocator<TMesh>::AddVertices(m, input.positions.size() / 3);
+	for (size_t i = 0; i < input.positions.size() / 3; ++i, ++vi)
+		vi->P() = vpos(input.positions, int32_t(i));
+	auto fi = vcg::tri::Allocator<TMesh>::AddFaces(m, input.triangles.size() / 3);
+	for (size_t f = 0; f < input.triangles.size() / 3; ++f, ++fi)
+		for (int k = 0; k < 3; ++k)
+			fi->V(k) = &m.vert[size_t(input.triangles[3 * f + k])];
+	vcg::tri::UpdateBounding<TMesh>::Box(m);
+	vcg::tri::UpdateNormal<TMesh>::PerFaceNormalized(m);
+	vcg::GridStaticPtr<TFace, double> grid;
+	grid.Set(m.face.begin(), m.face.end());
+	size_t flipped = 0;
+	const double maxDist = m.bbox.Diag();
+	for (size_t t = 0; t < level.triangles.size() / 3; ++t) {
+		const Vec3 a = vpos(level.positions, level.triangles[3 * t]);
+		const Vec3 b = vpos(level.positions, level.triangles[3 * t + 1]);
+		const Vec3 c = vpos(level.positions, level.triangles[3 * t + 2]);
+		const Vec3 n = ((b - a) ^ (c - a)).Normalize();
+		const Vec3 centroid = (a + b + c) / 3.0;
+		double dist = maxDist;
+		Vec3 closest;
+		TFace *f = vcg::tri::GetClosestFaceBase(m, grid, centroid, maxDist, dist, closest);
+		if (f && n.dot(f->N()) < 0)
+			++flipped;
+	}
+	return flipped;
+}
+
+} // namespace testmesh

@@ -1,0 +1,101 @@
+// GaussLOD: levels of detail by merging near-coplanar faces on a hierarchical Gauss sphere.
+//
+// Implements: Cao Weiqun, Bao Hujun, Peng Qunsheng, "An Algorithm for LOD by Merging Near Coplanar
+// Faces Based on Gauss Sphere", J. Comput. Sci. & Technol. 16(5), 2001, pp. 450-457.
+// How the paper is read, and the decisions on its ambiguities: docs/ALGORITHM.md of the project.
+//
+// This header is the whole public API of the engine. It works on flat arrays (a triangle soup with
+// shared vertex indices); `vcg_adapter.h` converts from and to any VCG triangle mesh type.
+//
+// Guarantees (for every level that is returned):
+//  - the input is never modified;
+//  - the output is a triangle mesh whose vertices are a subset of the input vertices (no new
+//    positions are created), with no duplicate face and no face with a repeated vertex;
+//  - every superface border is shared by both superfaces it separates (no crack, no T-junction);
+//    a closed 2-manifold input gives a closed 2-manifold output, and mesh-boundary loops stay loops;
+//  - faces are oriented like the input faces they replace;
+//  - a superface that cannot be re-triangulated validly (its projection folds or its border would
+//    self-intersect) is split back into its children of the next finer level, down to the input
+//    faces if need be; how often that happened is reported in LevelStats::fallbacks.
+// Errors (empty input, index out of range, non-finite coordinates, bad parameters) are reported in
+// Result::error with ok == false; no exception escapes buildLevels().
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace gausslod {
+
+/// Input mesh: positions xyz (3 per vertex) and triangles (3 vertex indices per face).
+struct MeshView {
+	const double *positions = nullptr;
+	size_t vertexCount = 0;
+	const int32_t *triangles = nullptr;
+	size_t faceCount = 0;
+};
+
+struct Params {
+	/// Number of levels (the paper's MaxLevel). Level i uses Gauss-sphere cells of 3^i x 3^i per
+	/// cube face; the finest level is maxLevel-1. Range 1..8.
+	int maxLevel = 5;
+	/// Bit i set = return level i (all levels are still computed, coarser ones need finer ones).
+	uint32_t levelMask = 0xffffffffu;
+	/// Vertex-class threshold (paper 2.3.2), degrees: A1 below = flat, A2 above = corner.
+	double featureAngleDeg = 30.0;
+	/// Border straightening tolerance (paper 2.3.1 + Douglas-Peucker), absolute distance in mesh
+	/// units: a border vertex farther than this from the straightened chain is kept. 0 = keep all.
+	double straightenTolerance = 0.0;
+	/// Vicinity merge distance (paper 2.3.2), absolute: consecutive border vertices closer than this
+	/// merge (less important into more important; corners only receive). 0 = no merging.
+	double mergeDistance = 0.0;
+};
+
+/// Convenience: tolerances given as a fraction of the bounding-box diagonal.
+double bboxDiagonal(const MeshView &mesh);
+
+struct LevelStats {
+	int level = 0;               ///< Gauss-sphere level i (cells 3^i x 3^i per cube face)
+	double boundDeg = 0;         ///< the paper's normal-deviation bound sqrt(2)*90/3^i
+	size_t faces = 0;            ///< output triangles
+	size_t vertices = 0;         ///< output vertices
+	size_t superfaces = 0;       ///< superfaces in the final partition of this level
+	size_t fallbacks = 0;        ///< superfaces split back into finer ones (see guarantees)
+	size_t retriangulated = 0;   ///< superfaces re-triangulated by constrained Delaunay
+	double maxNormalDevDeg = 0;  ///< max angle between an input face normal and the output
+	                             ///< triangle covering its centroid (same superface)
+	double meanNormalDevDeg = 0; ///< area-weighted mean of the same
+	size_t unmeasuredFaces = 0;  ///< input faces whose centroid fell outside their superface's
+	                             ///< straightened outline (not in the two figures above)
+	double seconds = 0;          ///< wall time spent on this level
+};
+
+struct LevelMesh {
+	std::vector<double> positions;     ///< xyz per output vertex
+	std::vector<int32_t> sourceVertex; ///< input vertex index of each output vertex
+	std::vector<int32_t> triangles;    ///< 3 indices per output face
+	std::vector<int32_t> superface;    ///< superface id per output face (0..superfaces-1)
+	std::vector<uint8_t> borderEdges;  ///< per face: bit k set = edge (k,k+1) is a superface
+	                                   ///< border; clear = internal to its superface (faux edge)
+	LevelStats stats;
+};
+
+struct Result {
+	bool ok = false;
+	std::string error;              ///< set when ok == false: what is wrong with the input
+	std::vector<LevelMesh> levels;  ///< the requested levels, finest first (level maxLevel-1 .. 0)
+	double totalSeconds = 0;
+};
+
+/// Progress: fraction 0..1 and a short stage description. Return false to cancel (then
+/// Result::ok == false, error == "cancelled").
+using Progress = std::function<bool(double fraction, const char *stage)>;
+
+/// Builds the levels of detail. Deterministic: the same input and parameters give the same output.
+Result buildLevels(const MeshView &mesh, const Params &params, const Progress &progress = {});
+
+/// The paper's bound on the normal deviation inside one Gauss-sphere cell of level i, in degrees.
+double levelBoundDeg(int level);
+
+} // namespace gausslod

@@ -1,0 +1,92 @@
+// Internal data of the GaussLOD engine: flat arrays indexed by vertex, face and half-edge
+// (half-edge h = 3*face + k goes from corner k to corner (k+1)%3 of its face).
+#pragma once
+
+#include "gausslod/gausslod.h"
+#include "gausslod/sphere_cells.h"
+
+#include <vcg/space/point3.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace gausslod {
+namespace detail {
+
+using Vec3 = vcg::Point3d;
+
+inline int32_t heFace(int32_t h) { return h / 3; }
+inline int32_t heNext(int32_t h) { return h - h % 3 + (h % 3 + 1) % 3; }
+inline int32_t hePrev(int32_t h) { return h - h % 3 + (h % 3 + 2) % 3; }
+
+enum VertexClass : uint8_t { kFlat = 0, kEdge = 1, kCorner = 2 }; // = importance (2.3.2)
+
+/// Everything derived once from the input mesh.
+struct Topology {
+	size_t nV = 0, nF = 0;
+	const double *P = nullptr;  ///< xyz per vertex (the caller's array)
+	const int32_t *T = nullptr; ///< 3 per face (the caller's array)
+	double diagonal = 0;
+
+	std::vector<Vec3> faceNormal;  ///< unit normal (zero for invalid faces)
+	std::vector<double> faceArea;  ///< area
+	std::vector<uint8_t> faceValid; ///< distinct vertices, finite, non-zero area
+	/// Opposite half-edge across a 2-manifold, consistently oriented edge between two valid
+	/// faces; -1 otherwise (mesh boundary, non-manifold, inconsistent: always a border).
+	std::vector<int32_t> twin;
+	/// Vertices that are never removed or moved: on non-manifold or inconsistent edges, on invalid
+	/// faces, or with more than one fan of faces (non-manifold vertex).
+	std::vector<uint8_t> vertexLocked;
+	std::vector<uint8_t> vertexClass; ///< VertexClass (2.3.2)
+	std::vector<int32_t> vfStart, vfFace; ///< vertex -> incident faces (CSR)
+
+	Vec3 pos(int32_t v) const { return Vec3(P[3 * v], P[3 * v + 1], P[3 * v + 2]); }
+	int32_t heFrom(int32_t h) const { return T[h]; }
+	int32_t heTo(int32_t h) const { return T[heNext(h)]; }
+};
+
+/// One level's superfaces: a label per input face.
+struct Partition {
+	int level = 0;
+	std::vector<int32_t> label;   ///< superface per input face, 0..count-1
+	std::vector<CellKey> cell;    ///< per superface, a cell of `level`; kInvalidCell = frozen
+	                              ///< (invalid input face: kept as it is, never merged)
+	std::vector<int8_t> origin;   ///< per superface: level of the partition it comes from (its
+	                              ///< children are that level+1's superfaces); -1 = one input face
+	size_t count() const { return cell.size(); }
+};
+
+/// Builds Topology from the input (validated by the caller). featureAngleDeg: 2.3.2 threshold.
+void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &topo);
+
+/// 2.2.1 The finest near-coplanar sets: faces of one cell connected through 2-manifold edges.
+void finestPartition(const Topology &topo, int level, Partition &out);
+
+/// 2.5 Merges superfaces of sibling cells of `fine` into the partition of level fine.level-1.
+void coarserPartition(const Topology &topo, const Partition &fine, Partition &out);
+
+/// Renumbers labels by first face (deterministic ids) and drops unused superfaces.
+void canonicalize(Partition &p);
+
+/// 2.2.2-2.4 for one level: borders, straightening, vicinity merging, re-triangulation; splits
+/// superfaces that cannot be re-triangulated validly into their finer children (`finer[k]` is the
+/// final partition of level k, for k > p.level) and rebuilds until the level is valid.
+void buildLevelGeometry(const Topology &topo, const Params &params,
+                        const std::vector<Partition> &finer, Partition &p, LevelMesh &out);
+
+/// 2.4 Constrained Delaunay triangulation of one superface's projected rings (CGAL).
+struct TriangulationJob {
+	std::vector<double> xy;          ///< 2 per ring vertex, rings concatenated
+	std::vector<int32_t> ringStart;  ///< ring r = [ringStart[r], ringStart[r+1]) ; size rings+1
+	std::vector<double> queryXY;     ///< points to locate in the result (2 per query)
+	// out
+	std::vector<int32_t> tris;       ///< 3 local ring-vertex indices per triangle, CCW
+	std::vector<uint8_t> constrained;///< per triangle: bit k = edge (k,k+1) is a ring edge
+	std::vector<int32_t> queryTri;   ///< triangle containing each query, -1 outside the domain
+};
+/// Returns false when the rings are not a valid planar domain: two ring vertices coincide, ring
+/// edges cross or overlap, or a ring edge is missing from the result.
+bool triangulateRings(TriangulationJob &job);
+
+} // namespace detail
+} // namespace gausslod

@@ -1,0 +1,119 @@
+// The pipeline (paper section 2): topology and vertex classes, the finest near-coplanar sets,
+// then level by level from fine to coarse: geometry of the level, then the partition of the next
+// coarser level by merging sibling cells.
+#include "engine.h"
+
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <new>
+
+namespace gausslod {
+
+double levelBoundDeg(int level) { return std::sqrt(2.0) * 90.0 / meshNum(level); }
+
+double bboxDiagonal(const MeshView &m)
+{
+	double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+	for (size_t v = 0; v < m.vertexCount; ++v)
+		for (int k = 0; k < 3; ++k) {
+			const double x = m.positions[3 * v + size_t(k)];
+			if (std::isfinite(x)) {
+				lo[k] = std::min(lo[k], x);
+				hi[k] = std::max(hi[k], x);
+			}
+		}
+	if (!(lo[0] <= hi[0]))
+		return 0;
+	const double dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
+	return std::sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+namespace {
+
+std::string validate(const MeshView &m, const Params &p)
+{
+	if (p.maxLevel < 1 || p.maxLevel > kMaxCellLevel + 1)
+		return "number of levels must be between 1 and " + std::to_string(kMaxCellLevel + 1);
+	if (!(p.featureAngleDeg > 0 && p.featureAngleDeg < 180))
+		return "feature angle must be between 0 and 180 degrees";
+	if (!(p.straightenTolerance >= 0 && std::isfinite(p.straightenTolerance)))
+		return "straightening tolerance must be a finite value >= 0";
+	if (!(p.mergeDistance >= 0 && std::isfinite(p.mergeDistance)))
+		return "vicinity merge distance must be a finite value >= 0";
+	if (m.faceCount == 0 || m.triangles == nullptr)
+		return "the mesh has no faces (GaussLOD needs a triangle mesh, not a point cloud)";
+	if (m.vertexCount >= size_t(INT32_MAX) || m.faceCount >= size_t(INT32_MAX) / 3)
+		return "the mesh is too large (more than 2^31 vertices or 2^31/3 faces)";
+	for (size_t i = 0; i < 3 * m.faceCount; ++i) {
+		const int32_t v = m.triangles[i];
+		if (v < 0 || size_t(v) >= m.vertexCount)
+			return "face " + std::to_string(i / 3) + " refers to vertex " + std::to_string(v) +
+			       ", which does not exist";
+		for (int k = 0; k < 3; ++k)
+			if (!std::isfinite(m.positions[3 * size_t(v) + size_t(k)]))
+				return "vertex " + std::to_string(v) + " (used by face " + std::to_string(i / 3) +
+				       ") has a non-finite coordinate";
+	}
+	return {};
+}
+
+double since(std::chrono::steady_clock::time_point t0)
+{
+	return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+} // namespace
+
+Result buildLevels(const MeshView &mesh, const Params &params, const Progress &progress)
+{
+	using namespace detail;
+	Result res;
+	const auto t0 = std::chrono::steady_clock::now();
+	res.error = validate(mesh, params);
+	if (!res.error.empty())
+		return res;
+	auto report = [&](double frac, const char *stage) {
+		if (progress && !progress(frac, stage)) {
+			res.error = "cancelled";
+			return false;
+		}
+		return true;
+	};
+	try {
+		Topology topo;
+		if (!report(0.0, "adjacency and vertex classes"))
+			return res;
+		buildTopology(mesh, params.featureAngleDeg, topo);
+		const int finest = params.maxLevel - 1;
+		std::vector<Partition> parts(size_t(params.maxLevel));
+		finestPartition(topo, finest, parts[size_t(finest)]);
+		const double setup = since(t0);
+		for (int level = finest; level >= 0; --level) {
+			const auto tl = std::chrono::steady_clock::now();
+			if (!report(0.05 + 0.95 * double(finest - level) / params.maxLevel, "building level"))
+				return res;
+			if (level < finest)
+				coarserPartition(topo, parts[size_t(level) + 1], parts[size_t(level)]);
+			LevelMesh lm;
+			buildLevelGeometry(topo, params, parts, parts[size_t(level)], lm);
+			lm.stats.seconds = since(tl) + (level == finest ? setup : 0.0);
+			if (params.levelMask & (1u << level))
+				res.levels.push_back(std::move(lm));
+		}
+		report(1.0, "done");
+	} catch (const std::bad_alloc &) {
+		res.levels.clear();
+		res.error = "out of memory";
+		return res;
+	} catch (const std::exception &e) {
+		res.levels.clear();
+		res.error = std::string("internal error: ") + e.what();
+		return res;
+	}
+	res.ok = true;
+	res.totalSeconds = since(t0);
+	return res;
+}
+
+} // namespace gausslod

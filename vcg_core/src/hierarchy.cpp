@@ -1,0 +1,133 @@
+// 2.5 Generating models with multiple levels of detail: the superfaces of level i whose cells are
+// siblings (children of one level i-1 cell) are merged by accretion, center-child seeds first,
+// then border-child seeds growing into their 8-neighbourhood.
+#include "engine.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace gausslod {
+namespace detail {
+
+namespace {
+
+// Superface adjacency through 2-manifold edges, as CSR.
+void superfaceAdjacency(const Topology &t, const Partition &p, std::vector<int32_t> &start,
+                        std::vector<int32_t> &adj)
+{
+	std::vector<uint64_t> pairs;
+	for (size_t h = 0; h < t.twin.size(); ++h) {
+		const int32_t tw = t.twin[h];
+		if (tw < int32_t(h))
+			continue; // boundary (-1) or seen from the other side
+		const int32_t a = p.label[h / 3], b = p.label[size_t(heFace(tw))];
+		if (a != b) {
+			pairs.push_back((uint64_t(uint32_t(a)) << 32) | uint32_t(b));
+			pairs.push_back((uint64_t(uint32_t(b)) << 32) | uint32_t(a));
+		}
+	}
+	std::sort(pairs.begin(), pairs.end());
+	pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+	start.assign(p.count() + 1, 0);
+	adj.resize(pairs.size());
+	for (size_t i = 0; i < pairs.size(); ++i) {
+		++start[size_t(pairs[i] >> 32) + 1];
+		adj[i] = int32_t(uint32_t(pairs[i]));
+	}
+	for (size_t s = 0; s < p.count(); ++s)
+		start[s + 1] += start[s];
+}
+
+} // namespace
+
+void coarserPartition(const Topology &t, const Partition &fine, Partition &out)
+{
+	const size_t n = fine.count();
+	std::vector<int32_t> start, adj;
+	superfaceAdjacency(t, fine, start, adj);
+
+	std::vector<int32_t> group(n, -1), members(n, 0), firstMember(n, -1);
+	out.level = fine.level - 1;
+	out.cell.clear();
+	out.origin.clear();
+	std::vector<int32_t> queue;
+
+	// Grows the superface seeded at `seed`, absorbing adjacent unassigned superfaces accepted by
+	// `accepts` (breadth first, in adjacency order: deterministic).
+	auto grow = [&](int32_t seed, auto accepts) {
+		const int32_t g = int32_t(out.cell.size());
+		out.cell.push_back(parentKey(fine.cell[size_t(seed)]));
+		out.origin.push_back(int8_t(out.level));
+		group[size_t(seed)] = g;
+		firstMember[size_t(g)] = seed;
+		members[size_t(g)] = 1;
+		queue.assign(1, seed);
+		for (size_t q = 0; q < queue.size(); ++q) {
+			const int32_t s = queue[q];
+			for (int32_t i = start[size_t(s)]; i < start[size_t(s) + 1]; ++i) {
+				const int32_t w = adj[size_t(i)];
+				if (group[size_t(w)] >= 0 || fine.cell[size_t(w)] == kInvalidCell ||
+				    !accepts(fine.cell[size_t(w)]))
+					continue;
+				group[size_t(w)] = g;
+				++members[size_t(g)];
+				queue.push_back(w);
+			}
+		}
+	};
+
+	// (1) seeds in center children; they absorb superfaces of their brother cells
+	for (size_t s = 0; s < n; ++s) {
+		const CellKey key = fine.cell[s];
+		if (group[s] >= 0 || key == kInvalidCell || !isCenterChild(unpackCell(key)))
+			continue;
+		const CellKey parent = parentKey(key);
+		grow(int32_t(s), [&](CellKey c) { return parentKey(c) == parent; });
+	}
+
+	// (2) seeds in border children, largest first; they absorb superfaces whose cells are in
+	// the seed cell's 8-neighbourhood (which may cross into a neighbouring parent)
+	std::vector<double> area(n, 0.0);
+	for (size_t f = 0; f < t.nF; ++f)
+		area[size_t(fine.label[f])] += t.faceArea[f];
+	std::vector<int32_t> order;
+	for (size_t s = 0; s < n; ++s)
+		if (group[s] < 0 && fine.cell[s] != kInvalidCell)
+			order.push_back(int32_t(s));
+	std::stable_sort(order.begin(), order.end(),
+	                 [&](int32_t a, int32_t b) { return area[size_t(a)] > area[size_t(b)]; });
+	for (int32_t s : order) {
+		if (group[size_t(s)] >= 0)
+			continue;
+		const Cell c = unpackCell(fine.cell[size_t(s)]);
+		Cell nb[8];
+		const int cnt = cellNeighbours(c, fine.level, nb);
+		CellKey keys[9];
+		keys[0] = packCell(c);
+		for (int k = 0; k < cnt; ++k)
+			keys[k + 1] = packCell(nb[k]);
+		grow(s, [&](CellKey w) { return std::find(keys, keys + cnt + 1, w) != keys + cnt + 1; });
+	}
+
+	// frozen superfaces (invalid input faces) stay alone
+	for (size_t s = 0; s < n; ++s)
+		if (group[s] < 0) {
+			group[s] = int32_t(out.cell.size());
+			out.cell.push_back(kInvalidCell);
+			out.origin.push_back(-1);
+		}
+
+	// (3) a superface made of one finer superface is that superface: keep its origin so that a
+	// fallback split goes straight to its own children
+	for (size_t g = 0; g < out.cell.size(); ++g)
+		if (members[g] == 1 && firstMember[g] >= 0)
+			out.origin[g] = fine.origin[size_t(firstMember[g])];
+
+	out.label.resize(t.nF);
+	for (size_t f = 0; f < t.nF; ++f)
+		out.label[f] = group[size_t(fine.label[f])];
+	canonicalize(out);
+}
+
+} // namespace detail
+} // namespace gausslod

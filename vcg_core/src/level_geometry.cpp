@@ -1,0 +1,697 @@
+// One level's geometry from the input mesh and that level's partition:
+//   2.2.2 tracing the border rings of every superface;
+//   2.3.1 straightening the chains between junction vertices (Douglas-Peucker with a tolerance);
+//   2.3.2 vicinity merging of consecutive border vertices by importance;
+//   2.4   re-triangulating each superface (constrained Delaunay in its best-fit plane);
+// then a validity check of the whole level; a superface that fails is first retried with its
+// border locked, then split into its children of the next finer level, until the level is valid.
+#include "engine.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gausslod {
+namespace detail {
+
+namespace {
+
+constexpr double kRadToDeg = 57.295779513082320876798;
+constexpr int kMaxRounds = 64;
+
+double pointSegmentDistance(const Vec3 &p, const Vec3 &a, const Vec3 &b)
+{
+	const Vec3 ab = b - a;
+	const double len2 = ab.SquaredNorm();
+	double t = len2 > 0 ? (p - a).dot(ab) / len2 : 0.0;
+	t = std::max(0.0, std::min(1.0, t));
+	return (p - (a + ab * t)).Norm();
+}
+
+double angleDeg(const Vec3 &a, const Vec3 &b)
+{
+	return std::acos(std::max(-1.0, std::min(1.0, a.dot(b)))) * kRadToDeg;
+}
+
+enum class Failure : uint8_t { None, Ring, Fold };
+
+// A chain of border edges between two junction vertices (or a closed loop with none), stored as a
+// range of a ring. Only one of the (up to) two superfaces sharing it processes it.
+struct Piece {
+	int32_t ring, start, len; ///< ring index, first position in the ring, number of edges
+	int32_t a, b;             ///< end vertices (a == b for a closed chain)
+	bool loop;                ///< a ring without any junction
+	int8_t minInterior;       ///< interior vertices to keep at least (keeps rings non-degenerate)
+};
+
+class LevelBuilder {
+public:
+	LevelBuilder(const Topology &t, const Params &prm, const std::vector<Partition> &finer,
+	             Partition &p, LevelMesh &out)
+	    : t_(t), prm_(prm), finer_(finer), p_(p), out_(out)
+	{
+	}
+
+	void run()
+	{
+		extraLock_.assign(t_.nV, 0);
+		size_t fallbacks = 0;
+		for (int round = 0;; ++round) {
+			if (round == kMaxRounds) // give up simplifying: every vertex kept is always valid
+				std::fill(extraLock_.begin(), extraLock_.end(), uint8_t(1));
+			buildOnce();
+			if (failed_.empty() || round >= kMaxRounds)
+				break;
+			fallbacks += failed_.size();
+			applyFallbacks();
+		}
+		finish(fallbacks);
+	}
+
+private:
+	const Topology &t_;
+	const Params &prm_;
+	const std::vector<Partition> &finer_;
+	Partition &p_;
+	LevelMesh &out_;
+
+	// per round
+	std::vector<int32_t> sfStart_, sfFace_;   // superface -> faces (CSR)
+	std::vector<uint8_t> border_;             // per half-edge
+	std::vector<int32_t> degree_;             // border edges per vertex
+	std::vector<uint8_t> junction_, keep_, extraLock_;
+	std::vector<int32_t> ringHE_, ringStart_, sfRingStart_;
+	std::vector<uint8_t> visited_, processed_;
+	std::vector<Piece> pieces_;
+	std::vector<std::pair<int32_t, Failure>> failed_;
+	// output of a round
+	std::vector<int32_t> tris_, triSf_;
+	std::vector<uint8_t> triBorder_, triNew_;
+	std::vector<double> faceDev_;             // per input face, -1 = not measured
+	size_t retriangulated_ = 0;
+	// scratch
+	TriangulationJob job_;
+	std::vector<int32_t> ringVerts_, ringVertStart_, seq_, stack_;
+
+	// ---------------------------------------------------------------- 2.2.2 borders and rings
+	void groupFaces()
+	{
+		const size_t ns = p_.count();
+		sfStart_.assign(ns + 1, 0);
+		for (size_t f = 0; f < t_.nF; ++f)
+			++sfStart_[size_t(p_.label[f]) + 1];
+		for (size_t s = 0; s < ns; ++s)
+			sfStart_[s + 1] += sfStart_[s];
+		sfFace_.resize(t_.nF);
+		std::vector<int32_t> fill(sfStart_.begin(), sfStart_.end() - 1);
+		for (size_t f = 0; f < t_.nF; ++f)
+			sfFace_[size_t(fill[size_t(p_.label[f])]++)] = int32_t(f);
+	}
+
+	void findBorders()
+	{
+		border_.assign(3 * t_.nF, 0);
+		degree_.assign(t_.nV, 0);
+		for (size_t h = 0; h < 3 * t_.nF; ++h) {
+			const int32_t tw = t_.twin[h];
+			const bool b = tw < 0 || p_.label[h / 3] != p_.label[size_t(heFace(tw))];
+			border_[h] = b;
+			if (b && (tw < 0 || int32_t(h) < tw)) {
+				++degree_[size_t(t_.heFrom(int32_t(h)))];
+				++degree_[size_t(t_.heTo(int32_t(h)))];
+			}
+		}
+		junction_.assign(t_.nV, 0);
+		for (size_t v = 0; v < t_.nV; ++v)
+			junction_[v] = degree_[v] > 0 &&
+			               (degree_[v] != 2 || t_.vertexLocked[v] || extraLock_[v]);
+		keep_ = junction_;
+	}
+
+	// Rings of superface s: from a border half-edge, the next one starts at its end vertex and is
+	// found by turning around that vertex inside the superface (works at pinched vertices too).
+	bool traceRings(int32_t s)
+	{
+		for (int32_t i = sfStart_[size_t(s)]; i < sfStart_[size_t(s) + 1]; ++i) {
+			const int32_t f = sfFace_[size_t(i)];
+			for (int k = 0; k < 3; ++k) {
+				const int32_t h0 = 3 * f + k;
+				if (!border_[size_t(h0)] || visited_[size_t(h0)])
+					continue;
+				ringStart_.push_back(int32_t(ringHE_.size()));
+				int32_t h = h0;
+				do {
+					visited_[size_t(h)] = 1;
+					ringHE_.push_back(h);
+					const int32_t b = t_.heTo(h);
+					const int32_t guard = t_.vfStart[size_t(b) + 1] - t_.vfStart[size_t(b)] + 1;
+					int32_t e = heNext(h), steps = 0;
+					while (!border_[size_t(e)] && steps++ <= guard)
+						e = heNext(t_.twin[size_t(e)]);
+					if (!border_[size_t(e)] || visited_[size_t(e)] != (e == h0))
+						return false; // not a proper ring (cannot happen on sane adjacency)
+					h = e;
+				} while (h != h0);
+			}
+		}
+		return true;
+	}
+
+	// -------------------------------------------------------------- 2.3 chains and their pieces
+	void collectPieces()
+	{
+		pieces_.clear();
+		processed_.assign(3 * t_.nF, 0);
+		for (size_t r = 0; r + 1 < ringStart_.size(); ++r) {
+			const int32_t b = ringStart_[r], m = ringStart_[r + 1] - b;
+			const int32_t *H = &ringHE_[size_t(b)];
+			int32_t first = -1;
+			for (int32_t i = 0; i < m && first < 0; ++i)
+				if (junction_[size_t(t_.heFrom(H[i]))])
+					first = i;
+			auto claim = [&](int32_t start, int32_t len) {
+				if (processed_[size_t(H[start % m])])
+					return false;
+				for (int32_t i = 0; i < len; ++i) {
+					const int32_t h = H[(start + i) % m];
+					processed_[size_t(h)] = 1;
+					if (t_.twin[size_t(h)] >= 0)
+						processed_[size_t(t_.twin[size_t(h)])] = 1;
+				}
+				return true;
+			};
+			if (first < 0) { // closed loop without junction: anchor at its smallest vertex id
+				int32_t anchor = 0;
+				for (int32_t i = 1; i < m; ++i)
+					if (t_.heFrom(H[i]) < t_.heFrom(H[anchor]))
+						anchor = i;
+				if (claim(anchor, m)) {
+					const int32_t v = t_.heFrom(H[anchor]);
+					pieces_.push_back(Piece{int32_t(r), anchor, m, v, v, true, 2});
+				}
+				continue;
+			}
+			for (int32_t i = first; i < first + m;) {
+				int32_t j = i + 1;
+				while (!junction_[size_t(t_.heFrom(H[j % m]))])
+					++j;
+				if (claim(i, j - i))
+					pieces_.push_back(Piece{int32_t(r), i % m, j - i, t_.heFrom(H[i % m]),
+					                        t_.heFrom(H[j % m]), false, 0});
+				i = j;
+			}
+		}
+		// Two chains with the same end vertices would straighten onto the same segment, a closed
+		// chain onto a point: keep interior vertices for them.
+		std::vector<std::pair<uint64_t, int32_t>> keys;
+		for (size_t i = 0; i < pieces_.size(); ++i) {
+			Piece &pc = pieces_[i];
+			if (pc.loop)
+				continue;
+			if (pc.a == pc.b) {
+				pc.minInterior = 2;
+				continue;
+			}
+			const uint64_t k = (uint64_t(uint32_t(std::min(pc.a, pc.b))) << 32) |
+			                   uint32_t(std::max(pc.a, pc.b));
+			keys.emplace_back(k, int32_t(i));
+		}
+		std::sort(keys.begin(), keys.end());
+		for (size_t i = 0; i < keys.size();) {
+			size_t j = i + 1;
+			while (j < keys.size() && keys[j].first == keys[i].first)
+				++j;
+			if (j - i > 1)
+				for (size_t q = i; q < j; ++q)
+					pieces_[size_t(keys[q].second)].minInterior = 1;
+			i = j;
+		}
+	}
+
+	// 2.3.1 straightening (Douglas-Peucker: split at the farthest vertex while it is farther than
+	// the tolerance) and 2.3.2 vicinity merging, on one piece's vertex sequence.
+	void simplifyPiece(const Piece &pc)
+	{
+		const int32_t b = ringStart_[size_t(pc.ring)], m = ringStart_[size_t(pc.ring) + 1] - b;
+		seq_.resize(size_t(pc.len) + 1);
+		for (int32_t i = 0; i <= pc.len; ++i)
+			seq_[size_t(i)] = t_.heFrom(ringHE_[size_t(b + (pc.start + i) % m)]);
+		const int32_t n = pc.len; // seq_[0] and seq_[n] are the ends
+		auto P = [&](int32_t i) { return t_.pos(seq_[size_t(i)]); };
+		const double tol = prm_.straightenTolerance;
+		int32_t kept = 0; // interior vertices kept
+		auto keepIdx = [&](int32_t i) {
+			if (!keep_[size_t(seq_[size_t(i)])]) {
+				keep_[size_t(seq_[size_t(i)])] = 1;
+				++kept;
+			}
+		};
+		// Farthest interior vertex of (lo, hi) from the segment seq[lo]-seq[hi].
+		auto farthest = [&](int32_t lo, int32_t hi, double &dist) {
+			int32_t best = -1;
+			dist = -1;
+			const Vec3 a = P(lo), c = P(hi);
+			for (int32_t i = lo + 1; i < hi; ++i) {
+				const double d = pointSegmentDistance(P(i), a, c);
+				if (d > dist) {
+					dist = d;
+					best = i;
+				}
+			}
+			return best;
+		};
+		if (n < 2)
+			return;
+		stack_.clear();
+		if (pc.loop) { // anchor + the vertex farthest from it split the loop in two chains
+			keep_[size_t(seq_[0])] = 1;
+			double d;
+			const int32_t far = farthest(0, n, d);
+			keepIdx(far);
+			stack_.push_back(0), stack_.push_back(far);
+			stack_.push_back(far), stack_.push_back(n);
+		} else {
+			stack_.push_back(0), stack_.push_back(n);
+		}
+		while (!stack_.empty()) {
+			const int32_t hi = stack_.back();
+			stack_.pop_back();
+			const int32_t lo = stack_.back();
+			stack_.pop_back();
+			if (hi - lo < 2)
+				continue;
+			double d;
+			const int32_t i = farthest(lo, hi, d);
+			if (d > tol) {
+				keepIdx(i);
+				stack_.push_back(lo), stack_.push_back(i);
+				stack_.push_back(i), stack_.push_back(hi);
+			}
+		}
+		// at least minInterior kept: add the vertex farthest from the current kept polyline
+		while (kept < pc.minInterior && kept < n - 1) {
+			int32_t best = -1, lo = 0;
+			double bestD = -1;
+			for (int32_t i = 1; i <= n; ++i) {
+				if (i < n && keep_[size_t(seq_[size_t(i)])] == 0)
+					continue;
+				double d;
+				const int32_t f = farthest(lo, i, d);
+				if (f >= 0 && d > bestD)
+					bestD = d, best = f;
+				lo = i;
+			}
+			if (best < 0)
+				break;
+			keepIdx(best);
+		}
+		if (prm_.mergeDistance <= 0)
+			return;
+		// 2.3.2 vicinity merging: a kept interior vertex closer than the merge distance to a kept
+		// neighbour on its chain merges into it if it is not more important; corners only receive.
+		int32_t prev = 0;
+		for (int32_t i = 1; i < n; ++i) {
+			const int32_t v = seq_[size_t(i)];
+			if (!keep_[size_t(v)])
+				continue;
+			int32_t next = i + 1;
+			while (next < n && !keep_[size_t(seq_[size_t(next)])])
+				++next;
+			if (kept <= pc.minInterior)
+				break;
+			const uint8_t cls = t_.vertexClass[size_t(v)];
+			const double dp = (P(i) - P(prev)).Norm(), dn = (P(i) - P(next)).Norm();
+			const int32_t w = dp <= dn ? prev : next;
+			const bool close = std::min(dp, dn) < prm_.mergeDistance;
+			if (close && cls != kCorner && cls <= t_.vertexClass[size_t(seq_[size_t(w)])]) {
+				keep_[size_t(v)] = 0;
+				--kept;
+				continue; // prev stays
+			}
+			prev = i;
+		}
+	}
+
+	// ------------------------------------------------------------------- 2.4 re-triangulation
+	void emit(int32_t a, int32_t b, int32_t c, int32_t s, uint8_t borderBits, bool isNew)
+	{
+		tris_.push_back(a), tris_.push_back(b), tris_.push_back(c);
+		triSf_.push_back(s);
+		triBorder_.push_back(borderBits);
+		triNew_.push_back(isNew);
+	}
+
+	Failure retriangulate(int32_t s)
+	{
+		const int32_t fb = sfStart_[size_t(s)], fe = sfStart_[size_t(s) + 1];
+		if (p_.cell[size_t(s)] == kInvalidCell) { // invalid input face: kept as it is
+			for (int32_t i = fb; i < fe; ++i) {
+				const int32_t f = sfFace_[size_t(i)];
+				const int32_t a = t_.T[3 * f], b = t_.T[3 * f + 1], c = t_.T[3 * f + 2];
+				if (a != b && b != c && a != c) // a face with a repeated vertex is no triangle
+					emit(a, b, c, s, 7, false);
+			}
+			return Failure::None;
+		}
+		Vec3 N(0, 0, 0);
+		for (int32_t i = fb; i < fe; ++i) {
+			const int32_t f = sfFace_[size_t(i)];
+			N += t_.faceNormal[size_t(f)] * t_.faceArea[size_t(f)];
+		}
+		if (!(N.Norm() > 0))
+			return Failure::Fold;
+		N.Normalize();
+		bool unchanged = true;
+		for (int32_t i = fb; i < fe; ++i) {
+			const int32_t f = sfFace_[size_t(i)];
+			if (!(t_.faceNormal[size_t(f)].dot(N) > 1e-6))
+				return Failure::Fold; // the projection on the best-fit plane folds
+			for (int k = 0; k < 3; ++k)
+				unchanged = unchanged && keep_[size_t(t_.T[3 * f + k])];
+		}
+		if (unchanged) { // every vertex kept: the input faces are the triangulation
+			for (int32_t i = fb; i < fe; ++i) {
+				const int32_t f = sfFace_[size_t(i)];
+				uint8_t bits = 0;
+				for (int k = 0; k < 3; ++k)
+					bits |= uint8_t(border_[size_t(3 * f + k)] << k);
+				emit(t_.T[3 * f], t_.T[3 * f + 1], t_.T[3 * f + 2], s, bits, false);
+				faceDev_[size_t(f)] = 0;
+			}
+			return Failure::None;
+		}
+		// kept ring vertices
+		ringVerts_.clear();
+		ringVertStart_.assign(1, 0);
+		for (int32_t r = sfRingStart_[size_t(s)]; r < sfRingStart_[size_t(s) + 1]; ++r) {
+			for (int32_t i = ringStart_[size_t(r)]; i < ringStart_[size_t(r) + 1]; ++i) {
+				const int32_t v = t_.heFrom(ringHE_[size_t(i)]);
+				if (keep_[size_t(v)])
+					ringVerts_.push_back(v);
+			}
+			if (int32_t(ringVerts_.size()) - ringVertStart_.back() < 3)
+				return Failure::Ring;
+			ringVertStart_.push_back(int32_t(ringVerts_.size()));
+		}
+		if (ringVertStart_.size() < 2)
+			return Failure::Ring;
+		const size_t firstTri = tris_.size() / 3;
+		if (ringVertStart_.size() == 2 && ringVerts_.size() == 3) { // one triangle
+			emit(ringVerts_[0], ringVerts_[1], ringVerts_[2], s, 7, true);
+		} else {
+			// project on the plane orthogonal to the area-weighted normal (U x V = N)
+			const Vec3 U = (std::fabs(N[0]) < 0.9 ? N ^ Vec3(1, 0, 0) : N ^ Vec3(0, 1, 0)).Normalize();
+			const Vec3 V = N ^ U;
+			const Vec3 o = t_.pos(ringVerts_[0]);
+			job_.xy.resize(2 * ringVerts_.size());
+			for (size_t i = 0; i < ringVerts_.size(); ++i) {
+				const Vec3 q = t_.pos(ringVerts_[i]) - o;
+				job_.xy[2 * i] = q.dot(U);
+				job_.xy[2 * i + 1] = q.dot(V);
+			}
+			job_.ringStart = ringVertStart_;
+			job_.queryXY.resize(2 * size_t(fe - fb));
+			for (int32_t i = fb; i < fe; ++i) {
+				const int32_t f = sfFace_[size_t(i)];
+				const Vec3 c =
+				    (t_.pos(t_.T[3 * f]) + t_.pos(t_.T[3 * f + 1]) + t_.pos(t_.T[3 * f + 2])) / 3.0 - o;
+				job_.queryXY[2 * size_t(i - fb)] = c.dot(U);
+				job_.queryXY[2 * size_t(i - fb) + 1] = c.dot(V);
+			}
+			if (!triangulateRings(job_))
+				return Failure::Ring;
+			for (size_t k = 0; k < job_.tris.size(); k += 3)
+				emit(ringVerts_[size_t(job_.tris[k])], ringVerts_[size_t(job_.tris[k + 1])],
+				     ringVerts_[size_t(job_.tris[k + 2])], s, job_.constrained[k / 3], true);
+		}
+		// measured normal deviation; a triangle flipped (>90 deg) against an input face fails
+		const size_t ntri = tris_.size() / 3 - firstTri;
+		std::vector<Vec3> &tn = triNormalScratch_;
+		tn.resize(ntri);
+		for (size_t k = 0; k < ntri; ++k) {
+			const int32_t *v = &tris_[3 * (firstTri + k)];
+			Vec3 n = (t_.pos(v[1]) - t_.pos(v[0])) ^ (t_.pos(v[2]) - t_.pos(v[0]));
+			if (!(n.Norm() > 0))
+				return Failure::Ring;
+			tn[k] = n / n.Norm();
+		}
+		for (int32_t i = fb; i < fe; ++i) {
+			const int32_t f = sfFace_[size_t(i)];
+			const int32_t k = ntri == 1 ? 0 : job_.queryTri[size_t(i - fb)];
+			if (k < 0)
+				continue;
+			const double d = angleDeg(t_.faceNormal[size_t(f)], tn[size_t(k)]);
+			if (d > 90)
+				return Failure::Ring;
+			faceDev_[size_t(f)] = d;
+		}
+		++retriangulated_;
+		return Failure::None;
+	}
+	std::vector<Vec3> triNormalScratch_;
+
+	// Rolls back what a failed superface emitted.
+	void truncate(size_t triCount)
+	{
+		tris_.resize(3 * triCount);
+		triSf_.resize(triCount);
+		triBorder_.resize(triCount);
+		triNew_.resize(triCount);
+	}
+
+	// ------------------------------------------------------------- validity of the whole level
+	// An edge used by more triangles than in the input, or twice in the same direction where the
+	// input had it right, comes from a re-triangulated superface: fail those superfaces.
+	void checkEdges()
+	{
+		std::vector<std::pair<uint64_t, int32_t>> e; // (edge key, 2*tri + reversed)
+		e.reserve(tris_.size());
+		for (size_t k = 0; k < tris_.size(); ++k) {
+			const int32_t a = tris_[k], b = tris_[k - k % 3 + (k % 3 + 1) % 3];
+			const uint64_t key = (uint64_t(uint32_t(std::min(a, b))) << 32) | uint32_t(std::max(a, b));
+			e.emplace_back(key, int32_t(2 * (k / 3) + (a > b)));
+		}
+		std::sort(e.begin(), e.end());
+		std::vector<uint8_t> bad(p_.count(), 0);
+		for (size_t i = 0; i < e.size();) {
+			size_t j = i + 1;
+			while (j < e.size() && e[j].first == e[i].first)
+				++j;
+			const size_t cnt = j - i;
+			bool anyNew = false;
+			for (size_t q = i; q < j; ++q)
+				anyNew = anyNew || triNew_[size_t(e[q].second / 2)];
+			if (anyNew && cnt >= 2) {
+				const bool sameDir = cnt == 2 && (e[i].second & 1) == (e[i + 1].second & 1);
+				if (cnt > 2 || sameDir) {
+					int inputCnt = 0, inputFwd = 0;
+					const int32_t a = int32_t(e[i].first >> 32), b = int32_t(uint32_t(e[i].first));
+					for (int32_t q = t_.vfStart[size_t(a)]; q < t_.vfStart[size_t(a) + 1]; ++q)
+						for (int k = 0; k < 3; ++k) {
+							const int32_t h = 3 * t_.vfFace[size_t(q)] + k;
+							if (t_.heFrom(h) == a && t_.heTo(h) == b)
+								++inputCnt, ++inputFwd;
+							else if (t_.heFrom(h) == b && t_.heTo(h) == a)
+								++inputCnt;
+						}
+					const bool inputSameDir = inputCnt == 2 && (inputFwd == 0 || inputFwd == 2);
+					if ((cnt > 2 && int(cnt) > inputCnt) || (sameDir && !inputSameDir))
+						for (size_t q = i; q < j; ++q) {
+							const int32_t tri = e[q].second / 2;
+							if (triNew_[size_t(tri)])
+								bad[size_t(triSf_[size_t(tri)])] = 1;
+						}
+				}
+			}
+			i = j;
+		}
+		for (size_t s = 0; s < bad.size(); ++s)
+			if (bad[s])
+				failed_.emplace_back(int32_t(s), Failure::Ring);
+	}
+
+	// ---------------------------------------------------------------------------- one round
+	void buildOnce()
+	{
+		failed_.clear();
+		tris_.clear(), triSf_.clear(), triBorder_.clear(), triNew_.clear();
+		retriangulated_ = 0;
+		faceDev_.assign(t_.nF, -1.0);
+		groupFaces();
+		findBorders();
+		ringHE_.clear();
+		ringStart_.clear();
+		sfRingStart_.assign(p_.count() + 1, 0);
+		visited_.assign(3 * t_.nF, 0);
+		std::vector<uint8_t> broken(p_.count(), 0);
+		for (size_t s = 0; s < p_.count(); ++s) {
+			sfRingStart_[s] = int32_t(ringStart_.size());
+			const size_t ringsBefore = ringStart_.size(), heBefore = ringHE_.size();
+			if (!traceRings(int32_t(s))) {
+				ringStart_.resize(ringsBefore), ringHE_.resize(heBefore);
+				broken[s] = 1;
+			}
+		}
+		sfRingStart_[p_.count()] = int32_t(ringStart_.size());
+		ringStart_.push_back(int32_t(ringHE_.size()));
+		collectPieces();
+		for (const Piece &pc : pieces_)
+			simplifyPiece(pc);
+		for (size_t s = 0; s < p_.count(); ++s) {
+			const size_t before = tris_.size() / 3;
+			const Failure f = broken[s] ? Failure::Fold : retriangulate(int32_t(s));
+			if (f != Failure::None) {
+				truncate(before);
+				failed_.emplace_back(int32_t(s), f);
+			}
+		}
+		if (failed_.empty())
+			checkEdges();
+	}
+
+	// A failed superface first has its border locked (no straightening, no merging); if it still
+	// fails, it is split into its children of the next finer level; a single input face that
+	// fails gets its vertices locked (it is then kept as it is).
+	void applyFallbacks()
+	{
+		groupFaces(); // (already current; cheap) superface -> faces
+		std::vector<uint8_t> split(p_.count(), 0);
+		for (const auto &sf : failed_) {
+			const int32_t s = sf.first;
+			const int32_t fb = sfStart_[size_t(s)], fe = sfStart_[size_t(s) + 1];
+			bool allLocked = true;
+			for (int32_t i = fb; i < fe; ++i)
+				for (int k = 0; k < 3; ++k) {
+					const int32_t h = 3 * sfFace_[size_t(i)] + k;
+					if (border_[size_t(h)] && !junction_[size_t(t_.heFrom(h))])
+						allLocked = false;
+				}
+			if (fe - fb == 1 || (sf.second == Failure::Ring && !allLocked)) {
+				for (int32_t i = fb; i < fe; ++i)
+					for (int k = 0; k < 3; ++k) {
+						const int32_t h = 3 * sfFace_[size_t(i)] + k;
+						if (border_[size_t(h)])
+							extraLock_[size_t(t_.heFrom(h))] = 1;
+					}
+				if (fe - fb == 1)
+					for (int k = 0; k < 3; ++k)
+						extraLock_[size_t(t_.T[3 * sfFace_[size_t(fb)] + k])] = 1;
+			} else {
+				split[size_t(s)] = 1;
+			}
+		}
+		// split: the faces of a split superface take the superface of their finer partition
+		const int finest = int(finer_.size()) - 1;
+		const size_t base = p_.count();
+		std::vector<int32_t> newLabel;
+		std::vector<int32_t> childMap; // finer label -> new label (per origin level)
+		std::vector<int32_t> touched;
+		for (size_t s = 0; s < base; ++s) {
+			if (!split[s])
+				continue;
+			const int o = p_.origin[s];
+			for (int32_t i = sfStart_[s]; i < sfStart_[s + 1]; ++i) {
+				const int32_t f = sfFace_[size_t(i)];
+				int32_t id;
+				CellKey cell;
+				int8_t origin;
+				if (o >= finest || o < 0) { // children are the input faces
+					id = -1;
+					Cell c;
+					const Vec3 &n = t_.faceNormal[size_t(f)];
+					const double nn[3] = {n[0], n[1], n[2]};
+					normalToCell(nn, p_.level, c);
+					cell = packCell(c);
+					origin = -1;
+				} else {
+					const Partition &fp = finer_[size_t(o + 1)];
+					const int32_t child = fp.label[size_t(f)];
+					if (childMap.size() < fp.count())
+						childMap.resize(fp.count(), -1);
+					id = childMap[size_t(child)];
+					CellKey k = fp.cell[size_t(child)];
+					for (int l = fp.level; l > p_.level && k != kInvalidCell; --l)
+						k = parentKey(k);
+					cell = k;
+					origin = fp.origin[size_t(child)];
+					if (id < 0) {
+						id = int32_t(p_.cell.size());
+						childMap[size_t(child)] = id;
+						touched.push_back(child);
+						p_.cell.push_back(cell);
+						p_.origin.push_back(origin);
+					}
+				}
+				if (id < 0) {
+					id = int32_t(p_.cell.size());
+					p_.cell.push_back(cell);
+					p_.origin.push_back(origin);
+				}
+				p_.label[size_t(f)] = id;
+			}
+			for (int32_t c : touched)
+				childMap[size_t(c)] = -1;
+			touched.clear();
+		}
+		canonicalize(p_);
+	}
+
+	// ---------------------------------------------------------------------------- output
+	void finish(size_t fallbacks)
+	{
+		std::vector<int32_t> remap(t_.nV, -1);
+		for (int32_t v : tris_)
+			remap[size_t(v)] = 0;
+		out_.positions.clear();
+		out_.sourceVertex.clear();
+		int32_t next = 0;
+		for (size_t v = 0; v < t_.nV; ++v) {
+			if (remap[v] < 0)
+				continue;
+			remap[v] = next++;
+			out_.sourceVertex.push_back(int32_t(v));
+			for (int k = 0; k < 3; ++k)
+				out_.positions.push_back(t_.P[3 * v + size_t(k)]);
+		}
+		out_.triangles.resize(tris_.size());
+		for (size_t k = 0; k < tris_.size(); ++k)
+			out_.triangles[k] = remap[size_t(tris_[k])];
+		out_.superface = triSf_;
+		out_.borderEdges = triBorder_;
+
+		LevelStats &st = out_.stats;
+		st.level = p_.level;
+		st.boundDeg = levelBoundDeg(p_.level);
+		st.faces = tris_.size() / 3;
+		st.vertices = size_t(next);
+		st.superfaces = p_.count();
+		st.fallbacks = fallbacks;
+		st.retriangulated = retriangulated_;
+		double maxDev = 0, sum = 0, area = 0;
+		size_t unmeasured = 0;
+		for (size_t f = 0; f < t_.nF; ++f) {
+			if (!t_.faceValid[f])
+				continue;
+			if (faceDev_[f] < 0) {
+				++unmeasured;
+				continue;
+			}
+			maxDev = std::max(maxDev, faceDev_[f]);
+			sum += faceDev_[f] * t_.faceArea[f];
+			area += t_.faceArea[f];
+		}
+		st.maxNormalDevDeg = maxDev;
+		st.meanNormalDevDeg = area > 0 ? sum / area : 0;
+		st.unmeasuredFaces = unmeasured;
+	}
+};
+
+} // namespace
+
+void buildLevelGeometry(const Topology &topo, const Params &params,
+                        const std::vector<Partition> &finer, Partition &p, LevelMesh &out)
+{
+	LevelBuilder(topo, params, finer, p, out).run();
+}
+
+} // namespace detail
+} // namespace gausslod

@@ -1,0 +1,146 @@
+// 2.4 Re-triangulating a superface: 2D constrained Delaunay triangulation of its projected border
+// rings (outer ring and holes), keeping the triangles inside the domain. This is the only
+// translation unit that includes CGAL (it compiles slowly).
+#include "engine.h"
+
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_face_base_with_info_2.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include <deque>
+
+namespace gausslod {
+namespace detail {
+
+namespace {
+
+struct FaceInfo {
+	int nesting = -1; ///< number of ring edges crossed from outside; odd = inside the superface
+	int tri = -1;     ///< index of the output triangle
+};
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Vb = CGAL::Triangulation_vertex_base_with_info_2<int32_t, K>;
+using Fbi = CGAL::Triangulation_face_base_with_info_2<FaceInfo, K>;
+using Fb = CGAL::Constrained_triangulation_face_base_2<K, Fbi>;
+using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+// Crossing ring edges would need new vertices: refuse them (exception) instead.
+using Itag = CGAL::No_constraint_intersection_requiring_constructions_tag;
+using CDT = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, Itag>;
+using Point = K::Point_2;
+
+// Flood fill from the infinite face; crossing a ring edge increments the nesting level.
+void markNesting(CDT &cdt)
+{
+	for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f)
+		f->info().nesting = -1;
+	std::deque<CDT::Face_handle> border{cdt.infinite_face()};
+	cdt.infinite_face()->info().nesting = 0;
+	std::vector<CDT::Face_handle> region;
+	while (!border.empty()) {
+		CDT::Face_handle seed = border.front();
+		border.pop_front();
+		const int level = seed->info().nesting;
+		region.assign(1, seed);
+		for (size_t q = 0; q < region.size(); ++q) {
+			CDT::Face_handle f = region[q];
+			for (int i = 0; i < 3; ++i) {
+				CDT::Face_handle n = f->neighbor(i);
+				if (n->info().nesting != -1)
+					continue;
+				if (f->is_constrained(i)) {
+					n->info().nesting = level + 1;
+					border.push_back(n);
+				} else {
+					n->info().nesting = level;
+					region.push_back(n);
+				}
+			}
+		}
+	}
+}
+
+bool inside(CDT::Face_handle f) { return f->info().nesting % 2 == 1; }
+
+} // namespace
+
+bool triangulateRings(TriangulationJob &job)
+{
+	job.tris.clear();
+	job.constrained.clear();
+	job.queryTri.assign(job.queryXY.size() / 2, -1);
+	const size_t n = job.xy.size() / 2;
+	if (n < 3 || job.ringStart.size() < 2)
+		return false;
+	try {
+		CDT cdt;
+		std::vector<CDT::Vertex_handle> vh(n);
+		CDT::Vertex_handle hint;
+		for (size_t i = 0; i < n; ++i) {
+			const size_t before = cdt.number_of_vertices();
+			vh[i] = cdt.insert(Point(job.xy[2 * i], job.xy[2 * i + 1]),
+			                   hint == CDT::Vertex_handle() ? CDT::Face_handle() : hint->face());
+			if (cdt.number_of_vertices() == before)
+				return false; // two ring vertices project to the same point
+			vh[i]->info() = int32_t(i);
+			hint = vh[i];
+		}
+		for (size_t r = 0; r + 1 < job.ringStart.size(); ++r) {
+			const int32_t b = job.ringStart[r], e = job.ringStart[r + 1];
+			for (int32_t i = b; i < e; ++i) {
+				const int32_t j = (i + 1 < e) ? i + 1 : b;
+				CDT::Face_handle fh;
+				int idx;
+				if (cdt.is_edge(vh[size_t(i)], vh[size_t(j)], fh, idx) && fh->is_constrained(idx))
+					return false; // the same edge twice: the domain is degenerate
+				cdt.insert_constraint(vh[size_t(i)], vh[size_t(j)]);
+			}
+		}
+		if (cdt.number_of_vertices() != n)
+			return false;
+		markNesting(cdt);
+		// Every ring edge must be an edge of the triangulation (not split by a vertex lying on it)
+		// with the superface on its left: rings are traced with the superface on their left.
+		for (size_t r = 0; r + 1 < job.ringStart.size(); ++r) {
+			const int32_t b = job.ringStart[r], e = job.ringStart[r + 1];
+			for (int32_t i = b; i < e; ++i) {
+				const int32_t j = (i + 1 < e) ? i + 1 : b;
+				CDT::Face_handle fh;
+				int idx;
+				if (!cdt.is_edge(vh[size_t(i)], vh[size_t(j)], fh, idx))
+					return false;
+				CDT::Face_handle left = fh, right = fh->neighbor(idx);
+				if (fh->vertex(CDT::ccw(idx)) != vh[size_t(i)])
+					std::swap(left, right);
+				if (cdt.is_infinite(left) || !inside(left) || inside(right))
+					return false;
+			}
+		}
+		for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+			if (!inside(f))
+				continue;
+			f->info().tri = int(job.tris.size() / 3);
+			uint8_t bits = 0;
+			for (int k = 0; k < 3; ++k) {
+				job.tris.push_back(f->vertex(k)->info());
+				// our edge k = (v_k, v_k+1) is CGAL's edge opposite vertex k+2
+				if (f->is_constrained((k + 2) % 3))
+					bits |= uint8_t(1u << k);
+			}
+			job.constrained.push_back(bits);
+		}
+		CDT::Face_handle loc;
+		for (size_t q = 0; q < job.queryTri.size(); ++q) {
+			loc = cdt.locate(Point(job.queryXY[2 * q], job.queryXY[2 * q + 1]), loc);
+			if (!cdt.is_infinite(loc) && inside(loc))
+				job.queryTri[q] = loc->info().tri;
+		}
+	} catch (...) {
+		return false; // crossing ring edges (or any CGAL precondition): not a valid domain
+	}
+	return !job.tris.empty();
+}
+
+} // namespace detail
+} // namespace gausslod
