@@ -5,9 +5,8 @@
 #include "gausslod/gausslod.h"
 #include "gausslod/vcg_adapter.h"
 
-#include <vcg/complex/algorithms/closest.h>
-#include <vcg/complex/algorithms/update/component_ep.h>
-#include <vcg/space/index/grid_static_ptr.h>
+#include <vcg/space/distance3.h>
+#include <vcg/space/triangle3.h>
 #include <wrap/io_trimesh/import_off.h>
 
 #include <algorithm>
@@ -234,33 +233,36 @@ inline TopoFacts topoFacts(const std::vector<double> &P, const std::vector<int32
 	return r;
 }
 
-/// Output faces whose normal points away (>90 deg) from the input surface nearest their centroid.
+/// Output faces whose normal points away (>90 deg) from the input faces they replace: the input
+/// face of the same superface nearest to the output face's centroid (brute force per superface).
 inline size_t flippedFaces(const gausslod::FlatMesh &input, const gausslod::LevelMesh &level)
 {
-	TMesh m;
-	auto vi = vcg::tri::Allocator<TMesh>::AddVertices(m, input.positions.size() / 3);
-	for (size_t i = 0; i < input.positions.size() / 3; ++i, ++vi)
-		vi->P() = vpos(input.positions, int32_t(i));
-	auto fi = vcg::tri::Allocator<TMesh>::AddFaces(m, input.triangles.size() / 3);
-	for (size_t f = 0; f < input.triangles.size() / 3; ++f, ++fi)
-		for (int k = 0; k < 3; ++k)
-			fi->V(k) = &m.vert[size_t(input.triangles[3 * f + k])];
-	vcg::tri::UpdateBounding<TMesh>::Box(m);
-	vcg::tri::UpdateNormal<TMesh>::PerFaceNormalized(m);
-	vcg::GridStaticPtr<TFace, double> grid;
-	grid.Set(m.face.begin(), m.face.end());
+	std::map<int32_t, std::vector<size_t>> facesOf;
+	for (size_t f = 0; f < level.inputSuperface.size(); ++f)
+		facesOf[level.inputSuperface[f]].push_back(f);
 	size_t flipped = 0;
-	const double maxDist = m.bbox.Diag();
 	for (size_t t = 0; t < level.triangles.size() / 3; ++t) {
 		const Vec3 a = vpos(level.positions, level.triangles[3 * t]);
 		const Vec3 b = vpos(level.positions, level.triangles[3 * t + 1]);
 		const Vec3 c = vpos(level.positions, level.triangles[3 * t + 2]);
 		const Vec3 n = ((b - a) ^ (c - a)).Normalize();
 		const Vec3 centroid = (a + b + c) / 3.0;
-		double dist = maxDist;
-		Vec3 closest;
-		TFace *f = vcg::tri::GetClosestFaceBase(m, grid, centroid, maxDist, dist, closest);
-		if (f && n.dot(f->N()) < 0)
+		double best = HUGE_VAL;
+		Vec3 bestNormal(0, 0, 0);
+		for (size_t f : facesOf[level.superface[t]]) {
+			const Vec3 p0 = vpos(input.positions, input.triangles[3 * f]);
+			const Vec3 p1 = vpos(input.positions, input.triangles[3 * f + 1]);
+			const Vec3 p2 = vpos(input.positions, input.triangles[3 * f + 2]);
+			vcg::Triangle3<double> tri(p0, p1, p2);
+			Vec3 closest;
+			double dist = HUGE_VAL;
+			vcg::TrianglePointDistance(tri, centroid, dist, closest);
+			if (dist < best) {
+				best = dist;
+				bestNormal = (p1 - p0) ^ (p2 - p0);
+			}
+		}
+		if (n.dot(bestNormal) < 0)
 			++flipped;
 	}
 	return flipped;

@@ -78,6 +78,8 @@ struct LevelMesh {
 	std::vector<int32_t> superface;    ///< superface id per output face (0..superfaces-1)
 	std::vector<uint8_t> borderEdges;  ///< per face: bit k set = edge (k,k+1) is a superface
 	                                   ///< border; clear = internal to its superface (faux edge)
+	std::vector<int32_t> inputSuperface; ///< superface id of each input face (the faces that
+	                                     ///< superface's output triangles replace)
 	LevelStats stats;
 };
 

@@ -434,6 +434,7 @@ private:
 				return Failure::Ring;
 			tn[k] = n / n.Norm();
 		}
+		covered_.assign(ntri, 0);
 		for (int32_t i = fb; i < fe; ++i) {
 			const int32_t f = sfFace_[size_t(i)];
 			const int32_t k = ntri == 1 ? 0 : job_.queryTri[size_t(i - fb)];
@@ -443,11 +444,27 @@ private:
 			if (d > 90)
 				return Failure::Ring;
 			faceDev_[size_t(f)] = d;
+			covered_[size_t(k)] = 1;
+		}
+		// a triangle that covers no input face centroid is checked against the faces of the
+		// superface around its corners
+		for (size_t k = 0; k < ntri; ++k) {
+			if (covered_[k])
+				continue;
+			for (int c = 0; c < 3; ++c) {
+				const int32_t v = tris_[3 * (firstTri + k) + size_t(c)];
+				for (int32_t q = t_.vfStart[size_t(v)]; q < t_.vfStart[size_t(v) + 1]; ++q) {
+					const int32_t f = t_.vfFace[size_t(q)];
+					if (p_.label[size_t(f)] == s && t_.faceNormal[size_t(f)].dot(tn[k]) < 0)
+						return Failure::Ring;
+				}
+			}
 		}
 		++retriangulated_;
 		return Failure::None;
 	}
 	std::vector<Vec3> triNormalScratch_;
+	std::vector<uint8_t> covered_;
 
 	// Rolls back what a failed superface emitted.
 	void truncate(size_t triCount)
@@ -656,6 +673,7 @@ private:
 		for (size_t k = 0; k < tris_.size(); ++k)
 			out_.triangles[k] = remap[size_t(tris_[k])];
 		out_.superface = triSf_;
+		out_.inputSuperface = p_.label;
 		out_.borderEdges = triBorder_;
 
 		LevelStats &st = out_.stats;
