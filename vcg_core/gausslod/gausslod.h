@@ -47,6 +47,11 @@ struct Params {
 	/// Border straightening tolerance (paper 2.3.1 + Douglas-Peucker), absolute distance in mesh
 	/// units: a border vertex farther than this from the straightened chain is kept. 0 = keep all.
 	double straightenTolerance = 0.0;
+	/// Normal-deviation limit, as a multiple of the level's bound sqrt(2)*90/3^i degrees: a
+	/// superface whose re-triangulation leaves an input face farther than this from the output
+	/// triangle covering it is retried with its border locked, then split into its finer children.
+	/// 0 = no limit (only flips beyond 90 degrees are refused).
+	double deviationFactor = 1.0;
 	/// Vicinity merge distance (paper 2.3.2), absolute: consecutive border vertices closer than this
 	/// merge (less important into more important; corners only receive). 0 = no merging.
 	double mergeDistance = 0.0;

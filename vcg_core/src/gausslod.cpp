@@ -39,6 +39,8 @@ std::string validate(const MeshView &m, const Params &p)
 		return "feature angle must be between 0 and 180 degrees";
 	if (!(p.straightenTolerance >= 0 && std::isfinite(p.straightenTolerance)))
 		return "straightening tolerance must be a finite value >= 0";
+	if (!(p.deviationFactor >= 0 && std::isfinite(p.deviationFactor)))
+		return "normal deviation factor must be a finite value >= 0";
 	if (!(p.mergeDistance >= 0 && std::isfinite(p.mergeDistance)))
 		return "vicinity merge distance must be a finite value >= 0";
 	if (m.faceCount == 0 || m.triangles == nullptr)

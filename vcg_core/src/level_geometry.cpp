@@ -53,6 +53,7 @@ public:
 
 	void run()
 	{
+		devLimit_ = prm_.deviationFactor > 0 ? prm_.deviationFactor * levelBoundDeg(p_.level) : 180.0;
 		extraLock_.assign(t_.nV, 0);
 		size_t fallbacks = 0;
 		for (int round = 0;; ++round) {
@@ -441,7 +442,7 @@ private:
 			if (k < 0)
 				continue;
 			const double d = angleDeg(t_.faceNormal[size_t(f)], tn[size_t(k)]);
-			if (d > 90)
+			if (d > 90 || d > devLimit_)
 				return Failure::Ring;
 			faceDev_[size_t(f)] = d;
 			covered_[size_t(k)] = 1;
@@ -465,6 +466,7 @@ private:
 	}
 	std::vector<Vec3> triNormalScratch_;
 	std::vector<uint8_t> covered_;
+	double devLimit_ = 180;
 
 	// Rolls back what a failed superface emitted.
 	void truncate(size_t triCount)
