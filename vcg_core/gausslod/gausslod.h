@@ -45,7 +45,8 @@ struct Params {
 	/// Vertex-class threshold (paper 2.3.2), degrees: A1 below = flat, A2 above = corner.
 	double featureAngleDeg = 30.0;
 	/// Border straightening tolerance (paper 2.3.1 + Douglas-Peucker), absolute distance in mesh
-	/// units: a border vertex farther than this from the straightened chain is kept. 0 = keep all.
+	/// units: a border vertex farther than this from the straightened chain is kept. 0 = remove
+	/// only vertices exactly on their chain (within 1e-9 of the bounding-box diagonal).
 	double straightenTolerance = 0.0;
 	/// Normal-deviation limit, as a multiple of the level's bound sqrt(2)*90/3^i degrees: a
 	/// superface whose re-triangulation leaves an input face farther than this from the output

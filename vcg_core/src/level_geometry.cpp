@@ -41,6 +41,7 @@ struct Piece {
 	int32_t a, b;             ///< end vertices (a == b for a closed chain)
 	bool loop;                ///< a ring without any junction
 	int8_t minInterior;       ///< interior vertices to keep at least (keeps rings non-degenerate)
+	int32_t kept = 0;         ///< interior vertices kept after simplification
 };
 
 class LevelBuilder {
@@ -53,6 +54,8 @@ public:
 
 	void run()
 	{
+		// below this, border vertices count as exactly on their straightened chain
+		tolerance_ = std::max(prm_.straightenTolerance, 1e-9 * t_.diagonal);
 		devLimit_ = prm_.deviationFactor > 0 ? prm_.deviationFactor * levelBoundDeg(p_.level) : 180.0;
 		extraLock_.assign(t_.nV, 0);
 		size_t fallbacks = 0;
@@ -201,64 +204,106 @@ private:
 				i = j;
 			}
 		}
-		// Two chains with the same end vertices would straighten onto the same segment, a closed
-		// chain onto a point: keep interior vertices for them.
+		for (Piece &pc : pieces_)
+			if (!pc.loop && pc.a == pc.b) // a closed chain would straighten onto a point
+				pc.minInterior = 2;
+	}
+
+	// Two chains with the same end vertices must not both straighten onto the same segment: all
+	// but one of them get back their farthest interior vertex.
+	void separateParallelChains()
+	{
 		std::vector<std::pair<uint64_t, int32_t>> keys;
 		for (size_t i = 0; i < pieces_.size(); ++i) {
-			Piece &pc = pieces_[i];
-			if (pc.loop)
-				continue;
-			if (pc.a == pc.b) {
-				pc.minInterior = 2;
-				continue;
-			}
-			const uint64_t k = (uint64_t(uint32_t(std::min(pc.a, pc.b))) << 32) |
-			                   uint32_t(std::max(pc.a, pc.b));
-			keys.emplace_back(k, int32_t(i));
+			const Piece &pc = pieces_[i];
+			if (!pc.loop && pc.a != pc.b && pc.kept == 0)
+				keys.emplace_back((uint64_t(uint32_t(std::min(pc.a, pc.b))) << 32) |
+				                      uint32_t(std::max(pc.a, pc.b)),
+				                  int32_t(i));
 		}
 		std::sort(keys.begin(), keys.end());
 		for (size_t i = 0; i < keys.size();) {
 			size_t j = i + 1;
 			while (j < keys.size() && keys[j].first == keys[i].first)
 				++j;
-			if (j - i > 1)
-				for (size_t q = i; q < j; ++q)
-					pieces_[size_t(keys[q].second)].minInterior = 1;
+			// the piece left straight: a single edge if there is one (it cannot keep a vertex)
+			size_t straight = i;
+			for (size_t q = i; q < j; ++q)
+				if (pieces_[size_t(keys[q].second)].len == 1)
+					straight = q;
+			for (size_t q = i; q < j; ++q)
+				if (q != straight) {
+					Piece &pc = pieces_[size_t(keys[q].second)];
+					loadSequence(pc);
+					pc.minInterior = 1;
+					ensureInterior(pc);
+				}
 			i = j;
 		}
 	}
 
-	// 2.3.1 straightening (Douglas-Peucker: split at the farthest vertex while it is farther than
-	// the tolerance) and 2.3.2 vicinity merging, on one piece's vertex sequence.
-	void simplifyPiece(const Piece &pc)
+	void loadSequence(const Piece &pc)
 	{
 		const int32_t b = ringStart_[size_t(pc.ring)], m = ringStart_[size_t(pc.ring) + 1] - b;
 		seq_.resize(size_t(pc.len) + 1);
 		for (int32_t i = 0; i <= pc.len; ++i)
 			seq_[size_t(i)] = t_.heFrom(ringHE_[size_t(b + (pc.start + i) % m)]);
+	}
+
+	// Farthest interior vertex of (lo, hi) from the segment seq[lo]-seq[hi]; -1 if none.
+	int32_t farthest(int32_t lo, int32_t hi, double &dist) const
+	{
+		int32_t best = -1;
+		dist = -1;
+		const Vec3 a = t_.pos(seq_[size_t(lo)]), c = t_.pos(seq_[size_t(hi)]);
+		for (int32_t i = lo + 1; i < hi; ++i) {
+			const double d = pointSegmentDistance(t_.pos(seq_[size_t(i)]), a, c);
+			if (d > dist) {
+				dist = d;
+				best = i;
+			}
+		}
+		return best;
+	}
+
+	// Keeps at least pc.minInterior interior vertices (seq_ loaded): adds the vertex farthest
+	// from the current kept polyline, one at a time.
+	void ensureInterior(Piece &pc)
+	{
+		const int32_t n = pc.len;
+		while (pc.kept < pc.minInterior && pc.kept < n - 1) {
+			int32_t best = -1, lo = 0;
+			double bestD = -1;
+			for (int32_t i = 1; i <= n; ++i) {
+				if (i < n && keep_[size_t(seq_[size_t(i)])] == 0)
+					continue;
+				double d;
+				const int32_t f = farthest(lo, i, d);
+				if (f >= 0 && d > bestD)
+					bestD = d, best = f;
+				lo = i;
+			}
+			if (best < 0)
+				break;
+			keep_[size_t(seq_[size_t(best)])] = 1;
+			++pc.kept;
+		}
+	}
+
+	// 2.3.1 straightening (Douglas-Peucker: split at the farthest vertex while it is farther than
+	// the tolerance) and 2.3.2 vicinity merging, on one piece's vertex sequence.
+	void simplifyPiece(Piece &pc)
+	{
+		loadSequence(pc);
 		const int32_t n = pc.len; // seq_[0] and seq_[n] are the ends
 		auto P = [&](int32_t i) { return t_.pos(seq_[size_t(i)]); };
-		const double tol = prm_.straightenTolerance;
-		int32_t kept = 0; // interior vertices kept
+		const double tol = tolerance_;
+		int32_t &kept = pc.kept; // interior vertices kept
 		auto keepIdx = [&](int32_t i) {
 			if (!keep_[size_t(seq_[size_t(i)])]) {
 				keep_[size_t(seq_[size_t(i)])] = 1;
 				++kept;
 			}
-		};
-		// Farthest interior vertex of (lo, hi) from the segment seq[lo]-seq[hi].
-		auto farthest = [&](int32_t lo, int32_t hi, double &dist) {
-			int32_t best = -1;
-			dist = -1;
-			const Vec3 a = P(lo), c = P(hi);
-			for (int32_t i = lo + 1; i < hi; ++i) {
-				const double d = pointSegmentDistance(P(i), a, c);
-				if (d > dist) {
-					dist = d;
-					best = i;
-				}
-			}
-			return best;
 		};
 		if (n < 2)
 			return;
@@ -288,23 +333,7 @@ private:
 				stack_.push_back(i), stack_.push_back(hi);
 			}
 		}
-		// at least minInterior kept: add the vertex farthest from the current kept polyline
-		while (kept < pc.minInterior && kept < n - 1) {
-			int32_t best = -1, lo = 0;
-			double bestD = -1;
-			for (int32_t i = 1; i <= n; ++i) {
-				if (i < n && keep_[size_t(seq_[size_t(i)])] == 0)
-					continue;
-				double d;
-				const int32_t f = farthest(lo, i, d);
-				if (f >= 0 && d > bestD)
-					bestD = d, best = f;
-				lo = i;
-			}
-			if (best < 0)
-				break;
-			keepIdx(best);
-		}
+		ensureInterior(pc);
 		if (prm_.mergeDistance <= 0)
 			return;
 		// 2.3.2 vicinity merging: a kept interior vertex closer than the merge distance to a kept
@@ -467,6 +496,7 @@ private:
 	std::vector<Vec3> triNormalScratch_;
 	std::vector<uint8_t> covered_;
 	double devLimit_ = 180;
+	double tolerance_ = 0;
 
 	// Rolls back what a failed superface emitted.
 	void truncate(size_t triCount)
@@ -553,8 +583,9 @@ private:
 		sfRingStart_[p_.count()] = int32_t(ringStart_.size());
 		ringStart_.push_back(int32_t(ringHE_.size()));
 		collectPieces();
-		for (const Piece &pc : pieces_)
+		for (Piece &pc : pieces_)
 			simplifyPiece(pc);
+		separateParallelChains();
 		for (size_t s = 0; s < p_.count(); ++s) {
 			const size_t before = tris_.size() / 3;
 			const Failure f = broken[s] ? Failure::Fold : retriangulate(int32_t(s));

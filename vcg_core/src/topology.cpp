@@ -149,7 +149,7 @@ void classifyVertices(Topology &t, double thresholdDeg)
 			mean += t.faceNormal[size_t(t.vfFace[size_t(i)])];
 		auto farthestFrom = [&](const Vec3 &dir, int group, const Vec3 *b1, const Vec3 *b2) {
 			int32_t best = -1;
-			double bestDot = 2;
+			double bestDot = HUGE_VAL;
 			for (int32_t i = begin; i < end; ++i) {
 				const int32_t f = t.vfFace[size_t(i)];
 				if (!t.faceValid[size_t(f)])

@@ -1,0 +1,177 @@
+// The paper's steps one by one: vertex classes (2.3.2), merging across cube-face edges of the
+// Gauss sphere (2.5 with the 8-neighbourhood decision), straightening and vicinity merging (2.3).
+#include "engine.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace gausslod;
+using namespace testmesh;
+
+namespace {
+
+// A plane through the origin with unit normal n, as an n x n grid over [-1,1]^2 in its own
+// basis, each vertex displaced along n by uniform noise.
+FlatMesh tiltedPlane(Vec3 n, int cells, double noise, unsigned seed)
+{
+	n.Normalize();
+	Vec3 u = (std::fabs(n[0]) < 0.9 ? n ^ Vec3(1, 0, 0) : n ^ Vec3(0, 1, 0)).Normalize();
+	Vec3 v = n ^ u;
+	std::mt19937 rng(seed);
+	std::uniform_real_distribution<double> d(-noise, noise);
+	FlatMesh m;
+	for (int y = 0; y <= cells; ++y)
+		for (int x = 0; x <= cells; ++x) {
+			const Vec3 p = u * (2.0 * x / cells - 1) + v * (2.0 * y / cells - 1) + n * d(rng);
+			for (int k = 0; k < 3; ++k)
+				m.positions.push_back(p[k]);
+		}
+	auto id = [&](int x, int y) { return int32_t(y * (cells + 1) + x); };
+	for (int y = 0; y < cells; ++y)
+		for (int x = 0; x < cells; ++x) {
+			const int32_t t[6] = {id(x, y), id(x + 1, y), id(x + 1, y + 1),
+			                      id(x, y), id(x + 1, y + 1), id(x, y + 1)};
+			m.triangles.insert(m.triangles.end(), t, t + 6);
+		}
+	return m;
+}
+
+// A roof: two planes meeting along x = 0 at a crease of `creaseDeg` (grid over [-1,1]^2).
+FlatMesh roof(int cells, double creaseDeg)
+{
+	FlatMesh m;
+	const double slope = std::tan(creaseDeg / 2 * M_PI / 180);
+	for (int y = 0; y <= cells; ++y)
+		for (int x = 0; x <= cells; ++x) {
+			const double px = 2.0 * x / cells - 1, py = 2.0 * y / cells - 1;
+			m.positions.push_back(px);
+			m.positions.push_back(py);
+			m.positions.push_back(-slope * std::fabs(px));
+		}
+	auto id = [&](int x, int y) { return int32_t(y * (cells + 1) + x); };
+	for (int y = 0; y < cells; ++y)
+		for (int x = 0; x < cells; ++x) {
+			const int32_t t[6] = {id(x, y), id(x + 1, y), id(x + 1, y + 1),
+			                      id(x, y), id(x + 1, y + 1), id(x, y + 1)};
+			m.triangles.insert(m.triangles.end(), t, t + 6);
+		}
+	return m;
+}
+
+} // namespace
+
+TEST(VertexClasses, cube_corners_are_corners_edges_are_edges_faces_are_flat)
+{
+	const FlatMesh cube = gridCube(4);
+	detail::Topology t;
+	detail::buildTopology(cube.view(), 30.0, t);
+	size_t counts[3] = {0, 0, 0};
+	for (size_t v = 0; v < t.nV; ++v) {
+		const Vec3 p = t.pos(int32_t(v));
+		int extremes = 0;
+		for (int k = 0; k < 3; ++k)
+			extremes += (p[k] == 0.0 || p[k] == 1.0);
+		const uint8_t expected = extremes == 3 ? detail::kCorner : extremes == 2 ? detail::kEdge : detail::kFlat;
+		EXPECT_EQ(t.vertexClass[v], expected) << p[0] << " " << p[1] << " " << p[2];
+		++counts[t.vertexClass[v]];
+	}
+	EXPECT_EQ(counts[detail::kCorner], 8u);
+	EXPECT_EQ(counts[detail::kEdge], 12u * 3);
+	EXPECT_EQ(counts[0], 6u * 9);
+	for (uint8_t locked : t.vertexLocked)
+		EXPECT_EQ(locked, 0); // a closed 2-manifold locks nothing
+}
+
+TEST(Hierarchy, a_noisy_45_degree_chamfer_merges_across_the_cube_edge_of_the_gauss_sphere)
+{
+	// The normal (1,1,0)/sqrt2 lies on the edge between the +x and +y cube faces: its noisy faces
+	// fall into cells of both faces, and only the 8-neighbourhood across cube-face edges can join
+	// them into one superface.
+	const FlatMesh m = tiltedPlane(Vec3(1, 1, 0), 30, 2e-3, 5);
+	const Result r = buildLevels(m.view(), Params());
+	ASSERT_TRUE(r.ok) << r.error;
+	std::set<int> cubeFaces;
+	for (size_t f = 0; f < m.triangles.size() / 3; ++f) {
+		const Vec3 a = vpos(m.positions, m.triangles[3 * f]), b = vpos(m.positions, m.triangles[3 * f + 1]),
+		           c = vpos(m.positions, m.triangles[3 * f + 2]);
+		const Vec3 n = (b - a) ^ (c - a);
+		const double nn[3] = {n[0], n[1], n[2]};
+		Cell cell;
+		ASSERT_TRUE(normalToCell(nn, 2, cell));
+		cubeFaces.insert(cell.face);
+	}
+	ASSERT_EQ(cubeFaces.size(), 2u); // the test really straddles the cube edge
+	const LevelMesh &coarse = r.levels.back();
+	EXPECT_EQ(coarse.stats.level, 0);
+	EXPECT_EQ(coarse.stats.superfaces, 1u);
+	// one superface whose border is the square's outline (kept by the zero tolerance)
+	EXPECT_EQ(topoFacts(coarse.positions, coarse.triangles).boundaryLoops, 1u);
+}
+
+TEST(Straightening, tolerance_bounds_how_far_a_removed_border_vertex_may_be_from_its_chain)
+{
+	// A roof with a 40 degree crease whose ridge wiggles: zero tolerance keeps every ridge
+	// vertex; a tolerance above the wiggle straightens the ridge to one segment.
+	FlatMesh m = roof(20, 40);
+	for (size_t v = 0; v < m.positions.size() / 3; ++v)
+		if (m.positions[3 * v] == 0.0)
+			m.positions[3 * v + 2] += (v % 2 ? 1e-3 : -1e-3);
+	Params keepAll;
+	keepAll.maxLevel = 3;
+	const Result a = buildLevels(m.view(), keepAll);
+	Params straight = keepAll;
+	straight.straightenTolerance = 5e-3;
+	const Result b = buildLevels(m.view(), straight);
+	ASSERT_TRUE(a.ok && b.ok);
+	const LevelMesh &la = a.levels.back(), &lb = b.levels.back();
+	EXPECT_EQ(la.stats.superfaces, 2u);
+	EXPECT_EQ(lb.stats.superfaces, 2u);
+	size_t ridgeA = 0, ridgeB = 0;
+	for (size_t v = 0; v < la.positions.size() / 3; ++v)
+		ridgeA += la.positions[3 * v] == 0.0;
+	for (size_t v = 0; v < lb.positions.size() / 3; ++v)
+		ridgeB += lb.positions[3 * v] == 0.0;
+	EXPECT_EQ(ridgeA, 21u);
+	EXPECT_EQ(ridgeB, 2u);
+	EXPECT_EQ(lb.stats.vertices, 6u);
+	EXPECT_EQ(lb.stats.faces, 4u);
+}
+
+TEST(VicinityMerging, close_border_vertices_merge_and_the_chain_ends_survive)
+{
+	// The wiggly ridge again, with a zero straightening tolerance: every ridge vertex is kept
+	// unless vicinity merging removes it.
+	FlatMesh m = roof(20, 20);
+	for (size_t v = 0; v < m.positions.size() / 3; ++v)
+		if (m.positions[3 * v] == 0.0)
+			m.positions[3 * v + 2] += (v % 2 ? 1e-3 : -1e-3);
+	Params p;
+	p.maxLevel = 3;
+	const Result none = buildLevels(m.view(), p);
+	p.mergeDistance = 0.25; // 2.5 grid steps
+	const Result merged = buildLevels(m.view(), p);
+	ASSERT_TRUE(none.ok && merged.ok);
+	auto ridge = [](const LevelMesh &lm, double y) {
+		size_t count = 0, atY = 0;
+		for (size_t v = 0; v < lm.positions.size() / 3; ++v)
+			if (lm.positions[3 * v] == 0.0) {
+				++count;
+				atY += lm.positions[3 * v + 1] == y;
+			}
+		return std::make_pair(count, atY);
+	};
+	const LevelMesh &a = none.levels.front(), &b = merged.levels.front(); // level 2: two superfaces
+	ASSERT_EQ(a.stats.superfaces, 2u);
+	EXPECT_EQ(ridge(a, -1.0).first, 21u);
+	EXPECT_LT(ridge(b, -1.0).first, 21u / 2);
+	EXPECT_GE(ridge(b, -1.0).first, 2u);
+	EXPECT_EQ(ridge(b, -1.0).second, 1u); // the ridge's ends are junctions: never merged away
+	EXPECT_EQ(ridge(b, 1.0).second, 1u);
+	EXPECT_LT(b.stats.faces, a.stats.faces);
+	const TopoFacts f = topoFacts(b.positions, b.triangles);
+	EXPECT_EQ(f.boundaryLoops, 1u);
+	EXPECT_EQ(f.nonManifoldEdges, 0u);
+	EXPECT_EQ(f.degenerateFaces, 0u);
+}
