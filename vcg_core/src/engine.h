@@ -31,6 +31,9 @@ struct Topology {
 	std::vector<Vec3> faceNormal;  ///< unit normal (zero for invalid faces)
 	std::vector<double> faceArea;  ///< area
 	std::vector<uint8_t> faceValid; ///< distinct vertices, finite, non-zero area
+	/// Faces that are no triangles (a repeated vertex index) or repeat an earlier face's vertex
+	/// set: left out of the adjacency and of every level.
+	std::vector<uint8_t> faceDropped;
 	/// Opposite half-edge across a 2-manifold, consistently oriented edge between two valid
 	/// faces; -1 otherwise (mesh boundary, non-manifold, inconsistent: always a border).
 	std::vector<int32_t> twin;

@@ -78,6 +78,7 @@ Result buildLevels(const MeshView &mesh, const Params &params, const Progress &p
 	auto report = [&](double frac, const char *stage) {
 		if (progress && !progress(frac, stage)) {
 			res.error = "cancelled";
+			res.levels.clear();
 			return false;
 		}
 		return true;
@@ -103,7 +104,8 @@ Result buildLevels(const MeshView &mesh, const Params &params, const Progress &p
 			if (params.levelMask & (1u << level))
 				res.levels.push_back(std::move(lm));
 		}
-		report(1.0, "done");
+		if (!report(1.0, "done"))
+			return res;
 	} catch (const std::bad_alloc &) {
 		res.levels.clear();
 		res.error = "out of memory";

@@ -117,7 +117,8 @@ private:
 		degree_.assign(t_.nV, 0);
 		for (size_t h = 0; h < 3 * t_.nF; ++h) {
 			const int32_t tw = t_.twin[h];
-			const bool b = tw < 0 || p_.label[h / 3] != p_.label[size_t(heFace(tw))];
+			const bool b = !t_.faceDropped[h / 3] &&
+			               (tw < 0 || p_.label[h / 3] != p_.label[size_t(heFace(tw))]);
 			border_[h] = b;
 			if (b && (tw < 0 || int32_t(h) < tw)) {
 				++degree_[size_t(t_.heFrom(int32_t(h)))];
@@ -376,9 +377,8 @@ private:
 		if (p_.cell[size_t(s)] == kInvalidCell) { // invalid input face: kept as it is
 			for (int32_t i = fb; i < fe; ++i) {
 				const int32_t f = sfFace_[size_t(i)];
-				const int32_t a = t_.T[3 * f], b = t_.T[3 * f + 1], c = t_.T[3 * f + 2];
-				if (a != b && b != c && a != c) // a face with a repeated vertex is no triangle
-					emit(a, b, c, s, 7, false);
+				if (!t_.faceDropped[size_t(f)])
+					emit(t_.T[3 * f], t_.T[3 * f + 1], t_.T[3 * f + 2], s, 7, false);
 			}
 			return Failure::None;
 		}

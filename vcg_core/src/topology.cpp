@@ -2,6 +2,7 @@
 #include "engine.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace gausslod {
@@ -26,7 +27,7 @@ void computeFaces(Topology &t)
 	const double minCross = 1e-20 * t.diagonal * t.diagonal;
 	for (size_t f = 0; f < t.nF; ++f) {
 		const int32_t a = t.T[3 * f], b = t.T[3 * f + 1], c = t.T[3 * f + 2];
-		if (a == b || b == c || a == c)
+		if (t.faceDropped[f])
 			continue;
 		const Vec3 n = (t.pos(b) - t.pos(a)) ^ (t.pos(c) - t.pos(a));
 		const double len = n.Norm();
@@ -38,21 +39,54 @@ void computeFaces(Topology &t)
 	}
 }
 
+// Vertex -> faces (CSR) over the faces that are not dropped.
 void buildVertexFaces(Topology &t)
 {
 	t.vfStart.assign(t.nV + 1, 0);
-	for (size_t i = 0; i < 3 * t.nF; ++i)
-		++t.vfStart[size_t(t.T[i]) + 1];
+	for (size_t f = 0; f < t.nF; ++f)
+		if (!t.faceDropped[f])
+			for (int k = 0; k < 3; ++k)
+				++t.vfStart[size_t(t.T[3 * f + size_t(k)]) + 1];
 	for (size_t v = 0; v < t.nV; ++v)
 		t.vfStart[v + 1] += t.vfStart[v];
-	t.vfFace.resize(3 * t.nF);
+	t.vfFace.resize(size_t(t.vfStart[t.nV]));
 	std::vector<int32_t> fill(t.vfStart.begin(), t.vfStart.end() - 1);
 	for (size_t f = 0; f < t.nF; ++f)
-		for (int k = 0; k < 3; ++k) {
-			const int32_t v = t.T[3 * f + k];
-			// a face with a repeated vertex is listed once per vertex occurrence; harmless
-			t.vfFace[size_t(fill[size_t(v)]++)] = int32_t(f);
+		if (!t.faceDropped[f])
+			for (int k = 0; k < 3; ++k)
+				t.vfFace[size_t(fill[size_t(t.T[3 * f + size_t(k)])]++)] = int32_t(f);
+}
+
+// Drops faces with a repeated vertex and faces whose vertex set an earlier face already has.
+void dropNonTriangles(Topology &t)
+{
+	t.faceDropped.assign(t.nF, 0);
+	for (size_t f = 0; f < t.nF; ++f) {
+		const int32_t a = t.T[3 * f], b = t.T[3 * f + 1], c = t.T[3 * f + 2];
+		t.faceDropped[f] = a == b || b == c || a == c;
+	}
+	buildVertexFaces(t);
+	bool any = false;
+	for (size_t f = 0; f < t.nF; ++f) {
+		if (t.faceDropped[f])
+			continue;
+		std::array<int32_t, 3> key = {t.T[3 * f], t.T[3 * f + 1], t.T[3 * f + 2]};
+		std::sort(key.begin(), key.end());
+		for (int32_t i = t.vfStart[size_t(key[0])]; i < t.vfStart[size_t(key[0]) + 1]; ++i) {
+			const int32_t g = t.vfFace[size_t(i)];
+			if (size_t(g) >= f || t.faceDropped[size_t(g)])
+				continue;
+			std::array<int32_t, 3> other = {t.T[3 * g], t.T[3 * g + 1], t.T[3 * g + 2]};
+			std::sort(other.begin(), other.end());
+			if (other == key) {
+				t.faceDropped[f] = 1;
+				any = true;
+				break;
+			}
 		}
+	}
+	if (any)
+		buildVertexFaces(t);
 }
 
 // Twins across 2-manifold, consistently oriented edges; everything else locks its vertices.
@@ -61,6 +95,8 @@ void buildTwins(Topology &t)
 	t.twin.assign(3 * t.nF, -1);
 	t.vertexLocked.assign(t.nV, 0);
 	for (size_t f = 0; f < t.nF; ++f) {
+		if (t.faceDropped[f])
+			continue;
 		if (!t.faceValid[f]) {
 			for (int k = 0; k < 3; ++k)
 				t.vertexLocked[size_t(t.T[3 * f + k])] = 1;
@@ -196,8 +232,8 @@ void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &t)
 	t.P = mesh.positions;
 	t.T = mesh.triangles;
 	t.diagonal = bboxDiagonal(mesh);
+	dropNonTriangles(t);
 	computeFaces(t);
-	buildVertexFaces(t);
 	buildTwins(t);
 	lockNonManifoldVertices(t);
 	classifyVertices(t, featureAngleDeg);
