@@ -75,6 +75,9 @@ struct LevelStats {
 	size_t unmeasuredFaces = 0;  ///< input faces whose centroid fell outside their superface's
 	                             ///< straightened outline (not in the two figures above)
 	double seconds = 0;          ///< wall time spent on this level
+	bool reusedFiner = false;    ///< the merged partition gave more faces than the next finer
+	                             ///< level: this level is that level's mesh (face counts stay
+	                             ///< monotone; the finer level keeps this level's bound too)
 };
 
 struct LevelMesh {

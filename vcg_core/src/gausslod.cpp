@@ -92,6 +92,7 @@ Result buildLevels(const MeshView &mesh, const Params &params, const Progress &p
 		std::vector<Partition> parts(size_t(params.maxLevel));
 		finestPartition(topo, finest, parts[size_t(finest)]);
 		const double setup = since(t0);
+		LevelMesh finer; // the previous (finer) level
 		for (int level = finest; level >= 0; --level) {
 			const auto tl = std::chrono::steady_clock::now();
 			if (!report(0.05 + 0.95 * double(finest - level) / params.maxLevel, "building level"))
@@ -100,7 +101,23 @@ Result buildLevels(const MeshView &mesh, const Params &params, const Progress &p
 				coarserPartition(topo, parts[size_t(level) + 1], parts[size_t(level)]);
 			LevelMesh lm;
 			buildLevelGeometry(topo, params, parts, parts[size_t(level)], lm);
+			if (level < finest && lm.stats.faces > finer.stats.faces) {
+				// keep the levels monotone: the finer level's mesh is valid here too
+				Partition &p = parts[size_t(level)];
+				p = parts[size_t(level) + 1];
+				p.level = level;
+				for (CellKey &c : p.cell)
+					c = c == kInvalidCell ? c : parentKey(c);
+				const LevelStats fine = finer.stats;
+				lm = finer;
+				lm.stats = fine;
+				lm.stats.level = level;
+				lm.stats.boundDeg = levelBoundDeg(level);
+				lm.stats.fallbacks = 0;
+				lm.stats.reusedFiner = true;
+			}
 			lm.stats.seconds = since(tl) + (level == finest ? setup : 0.0);
+			finer = lm;
 			if (params.levelMask & (1u << level))
 				res.levels.push_back(std::move(lm));
 		}

@@ -1,0 +1,99 @@
+// libFuzzer target: bytes -> a small mesh and parameters -> buildLevels, checking that it either
+// reports an error or returns levels whose indices, coordinates and face counts are sane and
+// that keep the closedness of a closed input. Built with clang -fsanitize=fuzzer,address,undefined
+// (tests/fuzz/CMakeLists.txt); crash inputs found and fixed go to tests/fuzz/regressions/.
+#include "gausslod/gausslod.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <utility>
+#include <vector>
+
+namespace {
+
+struct Reader {
+	const uint8_t *p;
+	size_t n;
+	uint8_t byte() { return n ? (--n, *p++) : 0; }
+};
+
+// Counts edges used once (boundary) or more than twice, and same-direction pairs.
+std::pair<size_t, size_t> edgeDefects(const std::vector<int32_t> &t)
+{
+	std::map<std::pair<int32_t, int32_t>, std::pair<int, int>> e;
+	for (size_t i = 0; i < t.size(); ++i) {
+		const int32_t a = t[i], b = t[i - i % 3 + (i % 3 + 1) % 3];
+		auto &x = e[{std::min(a, b), std::max(a, b)}];
+		++x.first;
+		x.second += a < b;
+	}
+	size_t open = 0, bad = 0;
+	for (const auto &kv : e) {
+		if (kv.second.first == 1)
+			++open;
+		else if (kv.second.first > 2 || kv.second.second != 1)
+			++bad;
+	}
+	return {open, bad};
+}
+
+} // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+	Reader r{data, size};
+	gausslod::Params params;
+	params.maxLevel = 1 + r.byte() % 5;
+	params.featureAngleDeg = 1 + r.byte() % 170;
+	params.straightenTolerance = (r.byte() % 16) * 0.02;
+	params.mergeDistance = (r.byte() % 16) * 0.02;
+	params.deviationFactor = (r.byte() % 4) * 0.75;
+	const size_t nv = 3 + r.byte() % 40;
+	std::vector<double> pos(3 * nv);
+	const uint8_t scaleByte = r.byte();
+	const double scale = std::ldexp(1.0, int(scaleByte % 40) - 20);
+	for (double &x : pos)
+		x = (int(r.byte()) - 128) * scale / 16.0; // coarse lattice: many coplanar and collinear
+	std::vector<int32_t> tris;
+	while (r.n >= 3 && tris.size() < 3 * 200)
+		for (int k = 0; k < 3; ++k)
+			tris.push_back(int32_t(r.byte() % nv));
+	gausslod::MeshView view;
+	view.positions = pos.data();
+	view.vertexCount = nv;
+	view.triangles = tris.data();
+	view.faceCount = tris.size() / 3;
+	const std::vector<double> posCopy = pos;
+	const std::vector<int32_t> trisCopy = tris;
+	const gausslod::Result res = gausslod::buildLevels(view, params);
+	if (pos != posCopy || tris != trisCopy)
+		std::abort(); // the input must not change
+	if (!res.ok) {
+		if (res.error.empty() || !res.levels.empty())
+			std::abort();
+		return 0;
+	}
+	const auto in = edgeDefects(tris);
+	size_t prevFaces = SIZE_MAX;
+	for (const gausslod::LevelMesh &lm : res.levels) {
+		const size_t nvOut = lm.positions.size() / 3;
+		for (int32_t v : lm.triangles)
+			if (v < 0 || size_t(v) >= nvOut)
+				std::abort();
+		for (double x : lm.positions)
+			if (!std::isfinite(x))
+				std::abort();
+		if (lm.triangles.size() % 3 || lm.superface.size() * 3 != lm.triangles.size())
+			std::abort();
+		const auto out = edgeDefects(lm.triangles);
+		if (in.first == 0 && in.second == 0 && (out.first != 0 || out.second != 0))
+			std::abort(); // a closed 2-manifold input must stay closed
+		if (lm.stats.faces > prevFaces)
+			std::abort(); // monotone face counts
+		prevFaces = lm.stats.faces;
+	}
+	return 0;
+}
