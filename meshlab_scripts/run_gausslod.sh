@@ -1,0 +1,138 @@
+#!/usr/bin/env bash
+# run_gausslod.sh INPUT OUTDIR [SCRIPT.mlx]
+#
+# Runs the GaussLOD MeshLab filter on INPUT with meshlabserver (under xvfb-run: meshlabserver 2020.09
+# needs an X server) and saves every layer the filter adds as OUTDIR/<name>_LOD<level>.ply.
+# SCRIPT defaults to gausslod_default.mlx next to this file; it must hold the GaussLOD filter, and
+# its maxLevel/outputLevels say which levels come out (layers 1..N, finest first, after the input).
+#
+# meshlabserver: $GAUSSLOD_MESHLAB_PREFIX/bin/meshlabserver if that variable is set, else the
+# build tree's private prefix <repo>/build/meshlab-prefix, else the system meshlabserver if the
+# plugin is installed system-wide.
+#
+# Exit status: 0 = every level saved; 2 = bad usage or input (missing file, unreadable mesh, no
+# faces); 3 = meshlabserver or the filter failed; 4 = an expected output file is missing or empty.
+set -euo pipefail
+
+me=$(basename "$0")
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+repo=$(cd "$here/.." && pwd)
+filter_name="Gauss Sphere LOD: Merge Near-Coplanar Faces"
+plugin_so=libfilter_gausslod.so
+multiarch=x86_64-linux-gnu
+
+die() { local code=$1; shift; echo "$me: error: $*" >&2; exit "$code"; }
+
+[ $# -ge 2 ] && [ $# -le 3 ] || { echo "usage: $me INPUT OUTDIR [SCRIPT.mlx]" >&2; exit 2; }
+input=$1 outdir=$2 script=${3:-$here/gausslod_default.mlx}
+
+[ -e "$input" ] || die 2 "input file not found: $input"
+[ -f "$input" ] && [ -r "$input" ] || die 2 "input is not a readable file: $input"
+[ -s "$input" ] || die 2 "input file is empty: $input"
+[ -f "$script" ] && [ -r "$script" ] || die 2 "script not found: $script"
+grep -qF "name=\"$filter_name\"" "$script" || die 2 "script $script does not run the filter '$filter_name'"
+
+# --- meshlabserver with the GaussLOD plugin --------------------------------------------------------
+if [ -n "${GAUSSLOD_MESHLAB_PREFIX:-}" ]; then
+  server=$GAUSSLOD_MESHLAB_PREFIX/bin/meshlabserver
+  [ -x "$server" ] || die 2 "GAUSSLOD_MESHLAB_PREFIX=$GAUSSLOD_MESHLAB_PREFIX has no bin/meshlabserver"
+  [ -e "$GAUSSLOD_MESHLAB_PREFIX/lib/$multiarch/meshlab/plugins/$plugin_so" ] ||
+    die 2 "GAUSSLOD_MESHLAB_PREFIX=$GAUSSLOD_MESHLAB_PREFIX has no plugins/$plugin_so"
+elif [ -x "$repo/build/meshlab-prefix/bin/meshlabserver" ]; then
+  server=$repo/build/meshlab-prefix/bin/meshlabserver
+elif [ -e "/usr/lib/$multiarch/meshlab/plugins/$plugin_so" ] && command -v meshlabserver >/dev/null; then
+  server=$(command -v meshlabserver)
+else
+  die 2 "no meshlabserver with the GaussLOD plugin: build the project (cmake --build build), set" \
+        "GAUSSLOD_MESHLAB_PREFIX, or install the plugin"
+fi
+command -v xvfb-run >/dev/null || die 2 "xvfb-run not found (Debian package xvfb)"
+
+# --- which levels the script asks for (finest first = the order of the new layers) ---------------
+param() { # value of <Param name="$1" ...> in the script, or empty
+  grep -o "<Param[^>]*name=\"$1\"[^>]*>" "$script" | head -n1 | grep -o 'value="[^"]*"' |
+    sed 's/^value="//; s/"$//' || true
+}
+max_level=$(param maxLevel); max_level=${max_level:-5}
+output_levels=$(param outputLevels); output_levels=${output_levels:-all}
+[[ $max_level =~ ^[0-9]+$ ]] && [ "$max_level" -ge 1 ] ||
+  die 2 "maxLevel '$max_level' in $script is not a positive number"
+levels=()
+if [ "$(echo "$output_levels" | tr -d ' ' | tr '[:upper:]' '[:lower:]')" = all ]; then
+  for ((l = max_level - 1; l >= 0; l--)); do levels+=("$l"); done
+else
+  mapfile -t levels < <(echo "$output_levels" | tr ',' '\n' | tr -d ' ')
+  for l in "${levels[@]}"; do
+    [[ $l =~ ^[0-9]+$ ]] && [ "$l" -lt "$max_level" ] ||
+      die 2 "outputLevels '$output_levels' in $script: '$l' is not a level of 0..$((max_level - 1))"
+  done
+  mapfile -t levels < <(printf '%s\n' "${levels[@]}" | sort -rnu) # finest first, as the layers
+fi
+[ ${#levels[@]} -gt 0 ] || die 2 "outputLevels '$output_levels' in $script selects no level"
+grep -q 'name="colourSuperfaces"[^>]*value="true"' "$script" && save_mask=(-m fc) || save_mask=()
+
+# --- run -----------------------------------------------------------------------------------------
+mkdir -p "$outdir" || die 2 "cannot create output folder $outdir"
+outdir=$(cd "$outdir" && pwd)
+input_abs=$(cd "$(dirname "$input")" && pwd)/$(basename "$input")
+name=$(basename "$input"); name=${name%.*}
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/gausslod-run.XXXXXX")
+trap 'rm -rf "$tmp"' EXIT
+mkdir -p "$tmp/config" "$tmp/runtime"; chmod 700 "$tmp/runtime"
+
+outputs=() args=(-i "$input_abs" -s "$script")
+for i in "${!levels[@]}"; do
+  f=$outdir/${name}_LOD${levels[$i]}.ply
+  rm -f "$f"
+  outputs+=("$f")
+  args+=(-o "$f" -l "$((i + 1))" "${save_mask[@]}")
+done
+
+log=$tmp/meshlabserver.log
+echo "$me: $server on $input (levels ${levels[*]}) -> $outdir"
+set +e
+XDG_CONFIG_HOME=$tmp/config XDG_RUNTIME_DIR=$tmp/runtime \
+  xvfb-run -a "$server" "${args[@]}" >"$log" 2>&1
+rc=$?
+set -e
+
+loaded=$(grep -o 'loaded has [0-9]* vn [0-9]* fn' "$log" | head -n1 || true)
+show_log() { echo "---- meshlabserver output (last 25 lines) ----" >&2; tail -n 25 "$log" >&2; }
+if [ -z "$loaded" ]; then
+  show_log
+  die 2 "could not read a mesh from $input (meshlabserver exit status $rc)"
+fi
+in_faces=$(echo "$loaded" | awk '{print $5}')
+in_verts=$(echo "$loaded" | awk '{print $3}')
+if [ "$in_faces" = 0 ]; then
+  die 2 "$input has no faces ($in_verts vertices): GaussLOD needs a triangle mesh"
+fi
+if [ $rc -ne 0 ] || grep -q 'Problem with filter\|Failed to apply script' "$log"; then
+  show_log
+  reason=$(grep -o 'GaussLOD failed: .*' "$log" | head -n1 || true)
+  die 3 "meshlabserver failed (exit status $rc) running $script on $input${reason:+: $reason}"
+fi
+
+missing=0
+printf '%-6s %10s %10s  %s\n' level faces vertices file
+printf '%-6s %10s %10s  %s\n' input "$in_faces" "$in_verts" "$input"
+for i in "${!levels[@]}"; do
+  f=${outputs[$i]}
+  if [ ! -s "$f" ]; then
+    echo "$me: missing or empty output for level ${levels[$i]}: $f" >&2
+    missing=1
+    continue
+  fi
+  counts=$(LC_ALL=C awk '
+    NR == 1 && $0 !~ /^ply\r?$/ { exit 1 }
+    $1 == "element" && $2 == "vertex" { v = $3 }
+    $1 == "element" && $2 == "face" { fc = $3 }
+    $1 == "end_header" { print fc + 0, v + 0; ok = 1; exit }
+    END { if (!ok) exit 1 }' "$f") || { echo "$me: not a PLY file: $f" >&2; missing=1; continue; }
+  read -r faces verts <<<"$counts"
+  printf '%-6s %10s %10s  %s\n' "${levels[$i]}" "$faces" "$verts" "$f"
+done
+if [ $missing -ne 0 ]; then
+  show_log
+  die 4 "meshlabserver did not save every level (see above)"
+fi

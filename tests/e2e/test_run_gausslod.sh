@@ -1,0 +1,95 @@
+#!/usr/bin/env bash
+# End to end: meshlab_scripts/run_gausslod.sh drives the real meshlabserver (private prefix holding
+# the built plugin) on real and on broken inputs.
+# usage: test_run_gausslod.sh RUNNER DATA_DIR WORK_DIR   (GAUSSLOD_MESHLAB_PREFIX set by CTest)
+set -uo pipefail
+
+runner=$1 data=$2 work=$3
+rm -rf "$work"; mkdir -p "$work"
+failures=0
+fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
+pass() { echo "ok: $*"; }
+
+# run NAME ARGS...: runs the runner, keeps stdout+stderr in $work/NAME.log, sets $rc
+run() {
+  local name=$1; shift
+  "$runner" "$@" >"$work/$name.log" 2>&1
+  rc=$?
+  echo "---- $name (exit $rc): run_gausslod.sh $*"; cat "$work/$name.log"
+}
+
+# faces vertices of a PLY file from its header; fails unless it is a PLY with a face element
+ply_counts() {
+  LC_ALL=C awk 'NR == 1 && $0 !~ /^ply\r?$/ { exit 1 }
+    $1 == "element" && $2 == "vertex" { v = $3 } $1 == "element" && $2 == "face" { f = $3 }
+    $1 == "end_header" { if (f == "") exit 1; print f, v; ok = 1; exit }
+    END { if (!ok) exit 1 }' "$1"
+}
+
+# check_levels DIR NAME LEVEL... (finest first): every file there, a PLY with faces, counts
+# non-increasing from fine to coarse, and the runner's table row agrees with the header
+check_levels() {
+  local dir=$1 name=$2 log=$3; shift 3
+  local prev=-1 level f counts faces verts
+  for level in "$@"; do
+    f=$dir/${name}_LOD$level.ply
+    if [ ! -s "$f" ]; then fail "$f missing or empty"; continue; fi
+    if ! counts=$(ply_counts "$f"); then fail "$f is not a PLY with faces"; continue; fi
+    read -r faces verts <<<"$counts"
+    [ "$faces" -gt 0 ] && [ "$verts" -gt 0 ] || fail "$f: $faces faces, $verts vertices"
+    if [ "$prev" -ge 0 ] && [ "$faces" -gt "$prev" ]; then
+      fail "$f: $faces faces, more than the finer level ($prev)"
+    fi
+    grep -Eq "^$level +$faces +$verts +$f\$" "$log" || fail "runner table has no row '$level $faces $verts $f'"
+    prev=$faces
+  done
+}
+
+# 1. cow.off with the default script: levels 4..0
+run cow "$data/cow.off" "$work/cow"
+if [ $rc -eq 0 ]; then pass "cow: exit 0"; else fail "cow: exit $rc"; fi
+check_levels "$work/cow" cow "$work/cow.log" 4 3 2 1 0
+[ "$(ls "$work/cow" | wc -l)" -eq 5 ] || fail "cow: expected exactly 5 files, got: $(ls "$work/cow")"
+in_faces=$(awk '$1 == "input" { print $2 }' "$work/cow.log")
+lod0=$(ply_counts "$work/cow/cow_LOD0.ply" 2>/dev/null | cut -d' ' -f1)
+if [ -n "$in_faces" ] && [ -n "$lod0" ] && [ "$lod0" -lt "$in_faces" ]; then
+  pass "cow: $in_faces input faces -> $lod0 at LOD0"
+else
+  fail "cow: coarsest level ($lod0 faces) not smaller than the input ($in_faces)"
+fi
+
+# 2. a script asking for a subset: the runner derives the layers from maxLevel/outputLevels
+sed -e 's/name="maxLevel" value="[0-9]*"/name="maxLevel" value="3"/' \
+    -e 's/name="outputLevels" value="[^"]*"/name="outputLevels" value="0, 2"/' \
+    "$(dirname "$runner")/gausslod_default.mlx" >"$work/subset.mlx"
+run subset "$data/fandisk.off" "$work/subset" "$work/subset.mlx"
+if [ $rc -eq 0 ]; then pass "subset: exit 0"; else fail "subset: exit $rc"; fi
+check_levels "$work/subset" fandisk "$work/subset.log" 2 0
+[ "$(ls "$work/subset" | wc -l)" -eq 2 ] || fail "subset: expected 2 files, got: $(ls "$work/subset")"
+
+# 3. failures: non-zero exit and a message saying what is wrong
+expect_failure() { # NAME PATTERN
+  if [ $rc -ne 0 ] && grep -qi "$2" "$work/$1.log"; then
+    pass "$1: exit $rc with '$2'"
+  else
+    fail "$1: expected a non-zero exit and a message matching '$2' (exit $rc)"
+  fi
+}
+run missing "$work/no-such-mesh.off" "$work/missing"
+expect_failure missing "input file not found"
+
+printf 'OFF\n4 0 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n' >"$work/points.off"
+run faceless "$work/points.off" "$work/faceless"
+expect_failure faceless "has no faces"
+
+printf 'this is not a mesh\n' >"$work/garbage.off"
+run garbage "$work/garbage.off" "$work/garbage"
+expect_failure garbage "could not read a mesh"
+
+sed 's/name="maxLevel" value="[0-9]*"/name="maxLevel" value="9"/' \
+    "$(dirname "$runner")/gausslod_default.mlx" >"$work/bad_level.mlx"
+run filter_error "$data/cow.off" "$work/filter_error" "$work/bad_level.mlx"
+expect_failure filter_error "GaussLOD failed: Number of levels must be in 1..8"
+
+if [ $failures -ne 0 ]; then echo "$failures check(s) failed"; exit 1; fi
+echo "all checks passed"

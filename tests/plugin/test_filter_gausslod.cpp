@@ -1,0 +1,443 @@
+// The GaussLOD MeshLab plugin, loaded from its .so the way MeshLab loads it (QPluginLoader, IID
+// check), applied to real meshes in a MeshDocument, with no GUI and no display.
+//
+// Paths come from CMake: GAUSSLOD_PLUGIN_PATH (the built .so), GAUSSLOD_DATA_DIR (real models),
+// GAUSSLOD_DEFAULT_SCRIPT (meshlab_scripts/gausslod_default.mlx).
+
+#include <common/filterscript.h>
+#include <common/interfaces.h>
+#include <common/meshmodel.h>
+
+#include <wrap/gl/glu_tesselator.h> // import_off.h needs it for polygons
+#include <wrap/io_trimesh/import_off.h>
+
+#include <gtest/gtest.h>
+
+#include <QCoreApplication>
+#include <QFileInfo>
+#include <QPluginLoader>
+#include <QRegularExpression>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <vector>
+
+namespace {
+
+const QString kFilterName = "Gauss Sphere LOD: Merge Near-Coplanar Faces";
+
+/// The plugin instance and its one action, loaded once for all tests.
+struct LoadedFilter {
+	QPluginLoader loader{QString(GAUSSLOD_PLUGIN_PATH)};
+	MeshFilterInterface *filter = nullptr;
+	QAction *action = nullptr;
+	QString loadError;
+
+	LoadedFilter()
+	{
+		QObject *instance = loader.instance();
+		if (instance == nullptr) {
+			loadError = loader.errorString();
+			return;
+		}
+		filter = qobject_cast<MeshFilterInterface *>(instance);
+		if (filter == nullptr) {
+			loadError = "the plugin is not a MeshFilterInterface";
+			return;
+		}
+		for (QAction *a : filter->actions())
+			if (a->text() == kFilterName)
+				action = a;
+	}
+};
+
+LoadedFilter &plugin()
+{
+	static LoadedFilter loaded;
+	return loaded;
+}
+
+QString dataFile(const char *name)
+{
+	return QString(GAUSSLOD_DATA_DIR) + "/" + name;
+}
+
+/// Adds a layer holding a real model read from an OFF file, labelled like MeshLab does ("cow.off").
+MeshModel *loadOffLayer(MeshDocument &md, const QString &path)
+{
+	MeshModel *mm = md.addNewMesh(path, QFileInfo(path).fileName(), true);
+	const int err = vcg::tri::io::ImporterOFF<CMeshO>::Open(mm->cm, qUtf8Printable(path));
+	EXPECT_EQ(err, 0) << "cannot read " << qUtf8Printable(path) << ": "
+	                  << vcg::tri::io::ImporterOFF<CMeshO>::ErrorMsg(err);
+	mm->UpdateBoxAndNormals();
+	return mm;
+}
+
+/// Every byte the filter could touch in a layer: sizes, positions, normals, flags, face indices.
+/// Floats are kept as their bit patterns, so the comparison is byte-for-byte (NaN included).
+struct LayerSnapshot {
+	int vn = 0, fn = 0;
+	size_t vertSlots = 0, faceSlots = 0;
+	std::vector<uint32_t> vertexData; // P, N per vertex slot
+	std::vector<int> vertexFlags, faceFlags;
+	std::vector<int> faceVerts; // vertex slot index per face corner
+	std::vector<uint32_t> faceNormals;
+	int dataMask = 0;
+	std::vector<uint32_t> box;
+
+	static uint32_t bits(float x)
+	{
+		uint32_t b;
+		std::memcpy(&b, &x, sizeof b);
+		return b;
+	}
+
+	explicit LayerSnapshot(const MeshModel &mm)
+	{
+		const CMeshO &m = mm.cm;
+		vn = m.vn, fn = m.fn;
+		vertSlots = m.vert.size(), faceSlots = m.face.size();
+		for (const auto &v : m.vert) {
+			for (int k = 0; k < 3; ++k)
+				vertexData.push_back(bits(v.cP()[k]));
+			for (int k = 0; k < 3; ++k)
+				vertexData.push_back(bits(v.cN()[k]));
+			vertexFlags.push_back(v.cFlags());
+		}
+		for (const auto &f : m.face) {
+			for (int k = 0; k < 3; ++k)
+				faceVerts.push_back(int(f.cV(k) - &m.vert[0]));
+			for (int k = 0; k < 3; ++k)
+				faceNormals.push_back(bits(f.cN()[k]));
+			faceFlags.push_back(f.cFlags());
+		}
+		dataMask = mm.dataMask();
+		for (int k = 0; k < 3; ++k) {
+			box.push_back(bits(m.bbox.min[k]));
+			box.push_back(bits(m.bbox.max[k]));
+		}
+	}
+
+	bool operator==(const LayerSnapshot &o) const
+	{
+		return vn == o.vn && fn == o.fn && vertSlots == o.vertSlots && faceSlots == o.faceSlots &&
+		       vertexData == o.vertexData && vertexFlags == o.vertexFlags &&
+		       faceVerts == o.faceVerts && faceNormals == o.faceNormals &&
+		       faceFlags == o.faceFlags && dataMask == o.dataMask && box == o.box;
+	}
+};
+
+struct ParsedLabel {
+	QString base;
+	int level = -1;
+	long faces = -1;
+	QString bound;
+};
+
+/// "cow LOD2 (5,706 f, <=14.1 deg)"
+bool parseLabel(const QString &label, ParsedLabel &out)
+{
+	static const QRegularExpression re(R"(^(.+) LOD(\d) \(([\d,]+) f, <=([\d.]+) deg\)$)");
+	const QRegularExpressionMatch m = re.match(label);
+	if (!m.hasMatch())
+		return false;
+	out.base = m.captured(1);
+	out.level = m.captured(2).toInt();
+	out.faces = m.captured(3).remove(',').toLong();
+	out.bound = m.captured(4);
+	return true;
+}
+
+QString paperBound(int level)
+{
+	return QString::number(std::sqrt(2.0) * 90.0 / std::pow(3.0, level), 'g', 3);
+}
+
+bool hasFauxEdge(const CMeshO &m)
+{
+	for (const auto &f : m.face)
+		if (!f.IsD() && (f.IsF(0) || f.IsF(1) || f.IsF(2)))
+			return true;
+	return false;
+}
+
+class GaussLodPlugin : public ::testing::Test
+{
+protected:
+	void SetUp() override
+	{
+		ASSERT_NE(plugin().filter, nullptr) << qUtf8Printable(plugin().loadError);
+		ASSERT_NE(plugin().action, nullptr) << "no action named " << qUtf8Printable(kFilterName);
+		filter = plugin().filter;
+		action = plugin().action;
+		log.Clear();
+		filter->setLog(&log);
+	}
+
+	/// Default parameters for the current layer, as MeshLab's dialog would show them.
+	RichParameterList defaults(MeshDocument &md)
+	{
+		RichParameterList par;
+		filter->initParameterSet(action, md, par);
+		return par;
+	}
+
+	bool apply(MeshDocument &md, const RichParameterList &par)
+	{
+		return filter->applyFilter(action, md, par, nullptr);
+	}
+
+	QStringList logLines()
+	{
+		QStringList lines;
+		for (const auto &entry : log.logStringList())
+			lines << entry.second;
+		return lines;
+	}
+
+	/// A failing call: false, a message, and the document exactly as it was.
+	void expectRejected(MeshDocument &md, const RichParameterList &par, const char *why)
+	{
+		const int layers = md.size();
+		MeshModel *current = md.mm();
+		const LayerSnapshot before(*current);
+		EXPECT_FALSE(apply(md, par)) << why;
+		EXPECT_FALSE(filter->errorMsg().isEmpty()) << why;
+		EXPECT_EQ(md.size(), layers) << why << ": a layer was added";
+		EXPECT_EQ(md.mm(), current) << why << ": the current layer changed";
+		EXPECT_TRUE(LayerSnapshot(*current) == before) << why << ": the input changed";
+	}
+
+	MeshFilterInterface *filter = nullptr;
+	QAction *action = nullptr;
+	GLLogStream log;
+};
+
+TEST_F(GaussLodPlugin, declares_itself_as_a_single_mesh_remeshing_filter)
+{
+	EXPECT_EQ(filter->getClass(action), MeshFilterInterface::Remeshing);
+	EXPECT_EQ(filter->filterArity(action), MeshFilterInterface::SINGLE_MESH);
+	EXPECT_EQ(filter->getPreConditions(action), int(MeshModel::MM_FACENUMBER));
+	EXPECT_EQ(filter->postCondition(action), int(MeshModel::MM_NONE));
+	EXPECT_TRUE(filter->filterInfo(action).contains("Gauss Sphere"));
+
+	MeshDocument md;
+	loadOffLayer(md, dataFile("cow.off"));
+	const RichParameterList par = defaults(md);
+	const QStringList expected = {"maxLevel",  "outputLevels",     "featureAngle", "straightenTol",
+	                              "mergeDist", "colourSuperfaces", "fauxEdges"};
+	EXPECT_EQ(par.size(), unsigned(expected.size()));
+	for (const QString &name : expected)
+		EXPECT_TRUE(par.hasParameter(name)) << qUtf8Printable(name);
+	EXPECT_EQ(par.getInt("maxLevel"), 5);
+	EXPECT_EQ(par.getString("outputLevels"), "all");
+	EXPECT_FLOAT_EQ(par.getFloat("featureAngle"), 30.0f);
+	const float diag = md.mm()->cm.bbox.Diag();
+	EXPECT_NEAR(par.getAbsPerc("straightenTol"), 0.005f * diag, 1e-6f * diag);
+	EXPECT_NEAR(par.getAbsPerc("mergeDist"), 0.0025f * diag, 1e-6f * diag);
+	EXPECT_TRUE(par.getBool("colourSuperfaces"));
+	EXPECT_TRUE(par.getBool("fauxEdges"));
+}
+
+TEST_F(GaussLodPlugin, cow_with_defaults_gets_one_new_layer_per_level_and_stays_untouched)
+{
+	MeshDocument md;
+	MeshModel *input = loadOffLayer(md, dataFile("cow.off"));
+	ASSERT_GT(input->cm.fn, 5000);
+	const LayerSnapshot before(*input);
+
+	ASSERT_TRUE(apply(md, defaults(md))) << qUtf8Printable(filter->errorMsg());
+
+	EXPECT_TRUE(LayerSnapshot(*input) == before) << "the input layer was modified";
+	ASSERT_EQ(md.size(), 1 + 5);
+	EXPECT_EQ(md.meshList.at(0), input);
+
+	long finerFaces = input->cm.fn;
+	for (int i = 1; i <= 5; ++i) {
+		const MeshModel *lm = md.meshList.at(i);
+		ParsedLabel label;
+		ASSERT_TRUE(parseLabel(lm->label(), label)) << qUtf8Printable(lm->label());
+		const int level = 5 - i; // finest first
+		EXPECT_EQ(label.base, "cow");
+		EXPECT_EQ(label.level, level);
+		EXPECT_EQ(label.faces, lm->cm.fn) << qUtf8Printable(lm->label());
+		EXPECT_EQ(label.bound, paperBound(level));
+		EXPECT_GT(lm->cm.fn, 0);
+		EXPECT_LE(lm->cm.fn, finerFaces) << "LOD" << level << " has more faces than the finer one";
+		EXPECT_LE(lm->cm.vn, input->cm.vn);
+		EXPECT_TRUE(lm->hasDataMask(MeshModel::MM_FACECOLOR)) << "colourSuperfaces is on";
+		EXPECT_TRUE(lm->fullName().isEmpty());
+		finerFaces = lm->cm.fn;
+	}
+	EXPECT_LT(md.meshList.at(5)->cm.fn, input->cm.fn) << "the coarsest level merged nothing";
+	EXPECT_TRUE(hasFauxEdge(md.meshList.at(5)->cm)) << "no superface interior marked faux";
+	EXPECT_EQ(md.mm(), md.meshList.at(5)) << "the current layer is not the coarsest level";
+
+	const QStringList lines = logLines();
+	for (int level = 0; level < 5; ++level) {
+		const QRegularExpression levelLine(
+		    QString("^LOD%1 .* faces, .* vertices, .* superfaces, .* fallbacks, .* retriangulated; "
+		            "normal deviation max .* deg, mean .* deg; .* s")
+		        .arg(level));
+		EXPECT_EQ(lines.filter(levelLine).size(), 1) << qUtf8Printable(lines.join("\n"));
+	}
+	EXPECT_EQ(lines.filter("5 layer(s) added").size(), 1) << qUtf8Printable(lines.join("\n"));
+}
+
+TEST_F(GaussLodPlugin, output_levels_selects_the_layers_and_options_are_honoured)
+{
+	MeshDocument md;
+	MeshModel *input = loadOffLayer(md, dataFile("fandisk.off"));
+	const LayerSnapshot before(*input);
+	RichParameterList par = defaults(md);
+	par.setValue("maxLevel", IntValue(3));
+	par.setValue("outputLevels", StringValue(" 2, 0 "));
+	par.setValue("colourSuperfaces", BoolValue(false));
+	par.setValue("fauxEdges", BoolValue(false));
+
+	ASSERT_TRUE(apply(md, par)) << qUtf8Printable(filter->errorMsg());
+	EXPECT_TRUE(LayerSnapshot(*input) == before);
+	ASSERT_EQ(md.size(), 3);
+	ParsedLabel fine, coarse;
+	ASSERT_TRUE(parseLabel(md.meshList.at(1)->label(), fine));
+	ASSERT_TRUE(parseLabel(md.meshList.at(2)->label(), coarse));
+	EXPECT_EQ(fine.base, "fandisk");
+	EXPECT_EQ(fine.level, 2);
+	EXPECT_EQ(coarse.level, 0);
+	EXPECT_LE(md.meshList.at(2)->cm.fn, md.meshList.at(1)->cm.fn);
+	EXPECT_EQ(md.mm(), md.meshList.at(2));
+	for (int i = 1; i <= 2; ++i) {
+		EXPECT_FALSE(md.meshList.at(i)->hasDataMask(MeshModel::MM_FACECOLOR));
+		EXPECT_FALSE(hasFauxEdge(md.meshList.at(i)->cm));
+	}
+}
+
+TEST_F(GaussLodPlugin, mesh_without_vertices_or_faces_is_rejected)
+{
+	MeshDocument md;
+	md.addNewMesh("", "empty", true);
+	expectRejected(md, defaults(md), "empty mesh");
+}
+
+TEST_F(GaussLodPlugin, point_cloud_is_rejected)
+{
+	MeshDocument md;
+	MeshModel *mm = md.addNewMesh("", "points.ply", true);
+	auto vi = vcg::tri::Allocator<CMeshO>::AddVertices(mm->cm, 4);
+	vi++->P() = Point3m(0, 0, 0);
+	vi++->P() = Point3m(1, 0, 0);
+	vi++->P() = Point3m(0, 1, 0);
+	vi->P() = Point3m(0, 0, 1);
+	mm->UpdateBoxAndNormals();
+	expectRejected(md, defaults(md), "point cloud");
+	EXPECT_TRUE(filter->errorMsg().contains("no faces")) << qUtf8Printable(filter->errorMsg());
+}
+
+TEST_F(GaussLodPlugin, out_of_range_parameters_are_rejected)
+{
+	MeshDocument md;
+	loadOffLayer(md, dataFile("cow.off"));
+	const std::vector<std::pair<const char *, std::shared_ptr<Value>>> cases = {
+	    {"maxLevel", std::make_shared<IntValue>(0)},
+	    {"maxLevel", std::make_shared<IntValue>(9)},
+	    {"outputLevels", std::make_shared<StringValue>("5")},
+	    {"outputLevels", std::make_shared<StringValue>("1,x")},
+	    {"outputLevels", std::make_shared<StringValue>("")},
+	    {"featureAngle", std::make_shared<FloatValue>(-1.0f)},
+	    {"featureAngle", std::make_shared<FloatValue>(181.0f)},
+	    {"straightenTol", std::make_shared<AbsPercValue>(-0.1f)},
+	    {"mergeDist", std::make_shared<AbsPercValue>(-0.1f)},
+	};
+	for (const auto &c : cases) {
+		RichParameterList par = defaults(md);
+		par.setValue(c.first, *c.second);
+		expectRejected(md, par, c.first);
+	}
+}
+
+TEST_F(GaussLodPlugin, engine_error_is_reported_and_adds_no_layer)
+{
+	MeshDocument md;
+	MeshModel *mm = md.addNewMesh("", "nan.ply", true);
+	auto vi = vcg::tri::Allocator<CMeshO>::AddVertices(mm->cm, 3);
+	vi[0].P() = Point3m(0, 0, 0);
+	vi[1].P() = Point3m(1, 0, 0);
+	vi[2].P() = Point3m(0, std::numeric_limits<float>::quiet_NaN(), 0);
+	vcg::tri::Allocator<CMeshO>::AddFace(mm->cm, &mm->cm.vert[0], &mm->cm.vert[1], &mm->cm.vert[2]);
+	RichParameterList par = defaults(md);
+	par.setValue("straightenTol", AbsPercValue(0.0f)); // the NaN box makes the defaults NaN too
+	par.setValue("mergeDist", AbsPercValue(0.0f));
+	expectRejected(md, par, "non-finite coordinates");
+	EXPECT_TRUE(filter->errorMsg().contains("non-finite")) << qUtf8Printable(filter->errorMsg());
+}
+
+bool progressCalls = false;
+bool cancellingCallback(const int, const char *)
+{
+	progressCalls = true;
+	return false;
+}
+
+TEST_F(GaussLodPlugin, cancelling_through_the_progress_callback_adds_no_layer)
+{
+	MeshDocument md;
+	MeshModel *input = loadOffLayer(md, dataFile("cow.off"));
+	const LayerSnapshot before(*input);
+	progressCalls = false;
+	EXPECT_FALSE(filter->applyFilter(action, md, defaults(md), cancellingCallback));
+	EXPECT_TRUE(progressCalls) << "the progress callback was never called";
+	EXPECT_TRUE(filter->errorMsg().contains("cancel")) << qUtf8Printable(filter->errorMsg());
+	EXPECT_EQ(md.size(), 1);
+	EXPECT_TRUE(LayerSnapshot(*input) == before);
+}
+
+/// What meshlabserver does with a script entry: the filter's defaults for the current mesh,
+/// overridden by the parameters the script lists.
+TEST_F(GaussLodPlugin, default_script_runs_in_process_like_meshlabserver)
+{
+	FilterScript script;
+	ASSERT_TRUE(script.open(GAUSSLOD_DEFAULT_SCRIPT));
+	ASSERT_EQ(script.size(), 1);
+	ASSERT_EQ(script.front().filterName(), kFilterName);
+
+	MeshDocument md;
+	MeshModel *input = loadOffLayer(md, dataFile("cow.off"));
+	const LayerSnapshot before(*input);
+	RichParameterList required = defaults(md);
+	const RichParameterList &listed = script.front().second;
+	ASSERT_EQ(listed.size(), required.size()) << "the script must list every parameter";
+	RichParameterList par;
+	for (const RichParameter &rp : required) {
+		ASSERT_TRUE(listed.hasParameter(rp.name())) << qUtf8Printable(rp.name());
+		const RichParameter &fromScript = listed.getParameterByName(rp.name());
+		EXPECT_EQ(fromScript.stringType(), rp.stringType()) << qUtf8Printable(rp.name());
+		par.addParam(fromScript);
+	}
+	// the script's AbsPerc range is 0..100, so its values are percentages of this mesh's diagonal;
+	// the defaults are the same percentages, so both runs must give the same layers
+	ASSERT_TRUE(apply(md, par)) << qUtf8Printable(filter->errorMsg());
+	EXPECT_TRUE(LayerSnapshot(*input) == before);
+	ASSERT_EQ(md.size(), 6);
+	EXPECT_EQ(md.mm(), md.meshList.at(5));
+
+	MeshDocument md2;
+	loadOffLayer(md2, dataFile("cow.off"));
+	ASSERT_TRUE(apply(md2, defaults(md2))) << qUtf8Printable(filter->errorMsg());
+	ASSERT_EQ(md2.size(), 6);
+	for (int i = 1; i <= 5; ++i) {
+		EXPECT_EQ(md.meshList.at(i)->label(), md2.meshList.at(i)->label());
+		EXPECT_EQ(md.meshList.at(i)->cm.vn, md2.meshList.at(i)->cm.vn);
+	}
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+	QCoreApplication app(argc, argv);
+	::testing::InitGoogleTest(&argc, argv);
+	return RUN_ALL_TESTS();
+}
