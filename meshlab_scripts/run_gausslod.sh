@@ -113,9 +113,16 @@ if [ $rc -ne 0 ] || grep -q 'Problem with filter\|Failed to apply script' "$log"
   die 3 "meshlabserver failed (exit status $rc) running $script on $input${reason:+: $reason}"
 fi
 
+# the filter's own log line of a level: superfaces, fallbacks, measured normal deviation, seconds
+level_stats() {
+  grep -m1 "^LOG: [0-9]* LOD$1 (" "$log" | LC_ALL=C sed -E -n \
+    's/.*bound ([0-9.]+) deg\): .* ([0-9,]+) superfaces, ([0-9,]+) fallbacks.*max ([0-9.]+) deg, mean ([0-9.]+) deg; ([0-9.]+) s.*/\1 \2 \3 \4 \5 \6/p' |
+    tr -d ','
+}
 missing=0
-printf '%-6s %10s %10s  %s\n' level faces vertices file
-printf '%-6s %10s %10s  %s\n' input "$in_faces" "$in_verts" "$input"
+fmt='%-6s %10s %10s %10s %9s %9s %9s %9s %8s  %s\n'
+printf "$fmt" level faces vertices superfaces fallbacks bound maxdev meandev seconds file
+printf "$fmt" input "$in_faces" "$in_verts" - - - - - - "$input"
 for i in "${!levels[@]}"; do
   f=${outputs[$i]}
   if [ ! -s "$f" ]; then
@@ -130,7 +137,9 @@ for i in "${!levels[@]}"; do
     $1 == "end_header" { print fc + 0, v + 0; ok = 1; exit }
     END { if (!ok) exit 1 }' "$f") || { echo "$me: not a PLY file: $f" >&2; missing=1; continue; }
   read -r faces verts <<<"$counts"
-  printf '%-6s %10s %10s  %s\n' "${levels[$i]}" "$faces" "$verts" "$f"
+  read -r bound sf fb maxdev meandev secs <<<"$(level_stats "${levels[$i]}")" || true
+  printf "$fmt" "LOD${levels[$i]}" "$faces" "$verts" "${sf:--}" "${fb:--}" "${bound:--}" \
+    "${maxdev:--}" "${meandev:--}" "${secs:--}" "$f"
 done
 if [ $missing -ne 0 ]; then
   show_log

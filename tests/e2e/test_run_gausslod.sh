@@ -40,7 +40,8 @@ check_levels() {
     if [ "$prev" -ge 0 ] && [ "$faces" -gt "$prev" ]; then
       fail "$f: $faces faces, more than the finer level ($prev)"
     fi
-    grep -Eq "^$level +$faces +$verts +$f\$" "$log" || fail "runner table has no row '$level $faces $verts $f'"
+    grep -Eq "^LOD$level +$faces +$verts +[0-9]+ +[0-9]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +$f\$" "$log" ||
+      fail "runner table has no row 'LOD$level $faces $verts ... $f' with the filter's figures"
     prev=$faces
   done
 }
