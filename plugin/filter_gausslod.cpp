@@ -101,6 +101,11 @@ bool readRequest(const RichParameterList &par, double diag, FilterRequest &req, 
 		error = QString("Vertex merge distance must be >= 0 (got %1).").arg(p.mergeDistance);
 		return false;
 	}
+	p.deviationFactor = par.getFloat("normalLimit");
+	if (!std::isfinite(p.deviationFactor) || p.deviationFactor < 0) {
+		error = QString("Normal deviation limit must be >= 0 (got %1).").arg(p.deviationFactor);
+		return false;
+	}
 	req.colourSuperfaces = par.getBool("colourSuperfaces");
 	req.fauxEdges = par.getBool("fauxEdges");
 	return true;
@@ -250,7 +255,8 @@ void FilterGaussLodPlugin::initParameterSet(QAction *a, MeshModel &m, RichParame
 		    "straightenTol", diag * 0.005f, 0.0f, diag, "Border straightening tolerance",
 		    "Distance in mesh units (the percentage is of the bounding-box diagonal; default "
 		    "0.5%): a border vertex farther than this from the straightened border between two "
-		    "superfaces is kept. 0 keeps every border vertex. In a saved script the percentage "
+		    "superfaces is kept. 0 removes only exactly collinear border vertices. In a saved "
+		    "script the percentage "
 		    "is what is kept: it is applied to the diagonal of the mesh the script runs on."));
 		par.addParam(RichAbsPerc(
 		    "mergeDist", diag * 0.0025f, 0.0f, diag, "Vertex merge distance",
@@ -258,6 +264,13 @@ void FilterGaussLodPlugin::initParameterSet(QAction *a, MeshModel &m, RichParame
 		    "0.25%): consecutive border vertices closer than this are merged, the less important "
 		    "into the more important. 0 disables merging. In a saved script the percentage is "
 		    "what is kept."));
+		par.addParam(RichFloat(
+		    "normalLimit", 1.0f, "Normal deviation limit (x level bound)",
+		    "Guarantee on the result, as a multiple of each level's bound sqrt(2)*90/3^i deg: "
+		    "a superface whose re-triangulation leaves an input face farther than this from the "
+		    "output triangle covering it is retried with its border kept, then split into finer "
+		    "superfaces. 1 = the paper's bound (default); larger values simplify more; 0 = no "
+		    "limit (only flipped triangles are refused)."));
 		par.addParam(RichBool("colourSuperfaces", true, "Colour faces by superface",
 		                      "Give every superface of an output level its own per-face colour."));
 		par.addParam(RichBool(

@@ -227,8 +227,8 @@ TEST_F(GaussLodPlugin, declares_itself_as_a_single_mesh_remeshing_filter)
 	MeshDocument md;
 	loadOffLayer(md, dataFile("cow.off"));
 	const RichParameterList par = defaults(md);
-	const QStringList expected = {"maxLevel",  "outputLevels",     "featureAngle", "straightenTol",
-	                              "mergeDist", "colourSuperfaces", "fauxEdges"};
+	const QStringList expected = {"maxLevel",  "outputLevels", "featureAngle",     "straightenTol",
+	                              "mergeDist", "normalLimit",  "colourSuperfaces", "fauxEdges"};
 	EXPECT_EQ(par.size(), unsigned(expected.size()));
 	for (const QString &name : expected)
 		EXPECT_TRUE(par.hasParameter(name)) << qUtf8Printable(name);
@@ -238,6 +238,7 @@ TEST_F(GaussLodPlugin, declares_itself_as_a_single_mesh_remeshing_filter)
 	const float diag = md.mm()->cm.bbox.Diag();
 	EXPECT_NEAR(par.getAbsPerc("straightenTol"), 0.005f * diag, 1e-6f * diag);
 	EXPECT_NEAR(par.getAbsPerc("mergeDist"), 0.0025f * diag, 1e-6f * diag);
+	EXPECT_FLOAT_EQ(par.getFloat("normalLimit"), 1.0f);
 	EXPECT_TRUE(par.getBool("colourSuperfaces"));
 	EXPECT_TRUE(par.getBool("fauxEdges"));
 }
@@ -350,6 +351,7 @@ TEST_F(GaussLodPlugin, out_of_range_parameters_are_rejected)
 	    {"featureAngle", std::make_shared<FloatValue>(181.0f)},
 	    {"straightenTol", std::make_shared<AbsPercValue>(-0.1f)},
 	    {"mergeDist", std::make_shared<AbsPercValue>(-0.1f)},
+	    {"normalLimit", std::make_shared<FloatValue>(-1.0f)},
 	};
 	for (const auto &c : cases) {
 		RichParameterList par = defaults(md);
@@ -440,4 +442,76 @@ int main(int argc, char **argv)
 	QCoreApplication app(argc, argv);
 	::testing::InitGoogleTest(&argc, argv);
 	return RUN_ALL_TESTS();
+}
+
+namespace {
+/// Geometry of a layer only: positions and face vertex indices (no colour, no flags).
+std::pair<std::vector<float>, std::vector<int>> geometry(const CMeshO &m)
+{
+	std::pair<std::vector<float>, std::vector<int>> g;
+	for (const auto &v : m.vert)
+		for (int k = 0; k < 3; ++k)
+			g.first.push_back(v.cP()[k]);
+	for (const auto &f : m.face)
+		for (int k = 0; k < 3; ++k)
+			g.second.push_back(int(vcg::tri::Index(m, f.cV(k))));
+	return g;
+}
+} // namespace
+
+TEST_F(GaussLodPlugin, colour_and_faux_options_change_what_they_claim_and_nothing_else)
+{
+	MeshDocument on, off;
+	loadOffLayer(on, dataFile("fandisk.off"));
+	loadOffLayer(off, dataFile("fandisk.off"));
+	ASSERT_TRUE(apply(on, defaults(on)));
+	RichParameterList par = defaults(off);
+	par.setValue("colourSuperfaces", BoolValue(false));
+	par.setValue("fauxEdges", BoolValue(false));
+	ASSERT_TRUE(apply(off, par));
+	ASSERT_EQ(on.size(), off.size());
+	for (int i = 1; i < on.size(); ++i) {
+		const CMeshO &a = on.meshList.at(i)->cm, &b = off.meshList.at(i)->cm;
+		EXPECT_TRUE(geometry(a) == geometry(b)) << "layer " << i << ": the options changed geometry";
+		EXPECT_FALSE(hasFauxEdge(b));
+		// faux edges lie inside a superface: both faces across one have the same colour; a
+		// superface border (not faux) separates two colours
+		on.meshList.at(i)->updateDataMask(MeshModel::MM_FACEFACETOPO);
+		CMeshO &mutableA = on.meshList.at(i)->cm;
+		size_t faux = 0, borders = 0, borderSameColour = 0;
+		for (auto &f : mutableA.face)
+			for (int k = 0; k < 3; ++k) {
+				const auto *g = f.cFFp(k);
+				if (g == &f)
+					continue;
+				if (f.IsF(k)) {
+					++faux;
+					EXPECT_EQ(f.cC(), g->cC()) << "a faux edge between two superfaces";
+				} else {
+					++borders;
+					borderSameColour += f.cC() == g->cC();
+				}
+			}
+		EXPECT_GT(faux, 0u);
+		EXPECT_LT(borderSameColour, borders / 20 + 1) << "neighbouring superfaces share colours";
+	}
+}
+
+TEST_F(GaussLodPlugin, a_looser_normal_limit_simplifies_at_least_as_much)
+{
+	MeshDocument strict, loose;
+	loadOffLayer(strict, dataFile("cow.off"));
+	loadOffLayer(loose, dataFile("cow.off"));
+	ASSERT_TRUE(apply(strict, defaults(strict)));
+	RichParameterList par = defaults(loose);
+	par.setValue("normalLimit", FloatValue(0.0f)); // no limit
+	ASSERT_TRUE(apply(loose, par));
+	// the limit (x the level bound) matters where the bound is below 90 deg: levels 4..1
+	long strictFaces = 0, looseFaces = 0;
+	for (int i = 1; i < strict.size(); ++i) {
+		EXPECT_LE(loose.meshList.at(i)->cm.fn, strict.meshList.at(i)->cm.fn);
+		strictFaces += strict.meshList.at(i)->cm.fn;
+		looseFaces += loose.meshList.at(i)->cm.fn;
+	}
+	EXPECT_LT(looseFaces, strictFaces);
 }
