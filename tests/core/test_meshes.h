@@ -145,8 +145,9 @@ inline TopoFacts topoFacts(const std::vector<double> &P, const std::vector<int32
 		const Vec3 n = (vpos(P, b) - vpos(P, a)) ^ (vpos(P, c) - vpos(P, a));
 		if (a == b || b == c || a == c || !(n.Norm() > 0))
 			++r.degenerateFaces;
-		std::array<int32_t, 3> key = {a, b, c};
-		std::sort(key.begin(), key.end());
+		// same face, same orientation (a reversed copy makes a two-sided sheet: not a duplicate)
+		const int m = a < b ? (a < c ? 0 : 2) : (b < c ? 1 : 2);
+		const std::array<int32_t, 3> key = {T[3 * f + m], T[3 * f + (m + 1) % 3], T[3 * f + (m + 2) % 3]};
 		if (!faces.insert(key).second)
 			++r.duplicateFaces;
 		for (int k = 0; k < 3; ++k) {

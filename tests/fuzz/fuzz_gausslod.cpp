@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <map>
@@ -40,6 +41,12 @@ std::pair<size_t, size_t> edgeDefects(const std::vector<int32_t> &t)
 	return {open, bad};
 }
 
+[[noreturn]] void fail(const char *what)
+{
+	std::fprintf(stderr, "fuzz_gausslod: %s\n", what);
+	std::abort();
+}
+
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
@@ -70,10 +77,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	const std::vector<int32_t> trisCopy = tris;
 	const gausslod::Result res = gausslod::buildLevels(view, params);
 	if (pos != posCopy || tris != trisCopy)
-		std::abort(); // the input must not change
+		fail("the input changed");
 	if (!res.ok) {
 		if (res.error.empty() || !res.levels.empty())
-			std::abort();
+			fail("a failed run without a message, or with levels");
 		return 0;
 	}
 	const auto in = edgeDefects(tris);
@@ -82,17 +89,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		const size_t nvOut = lm.positions.size() / 3;
 		for (int32_t v : lm.triangles)
 			if (v < 0 || size_t(v) >= nvOut)
-				std::abort();
+				fail("vertex index out of range");
 		for (double x : lm.positions)
 			if (!std::isfinite(x))
-				std::abort();
+				fail("non-finite output coordinate");
 		if (lm.triangles.size() % 3 || lm.superface.size() * 3 != lm.triangles.size())
-			std::abort();
+			fail("inconsistent output arrays");
 		const auto out = edgeDefects(lm.triangles);
 		if (in.first == 0 && in.second == 0 && (out.first != 0 || out.second != 0))
-			std::abort(); // a closed 2-manifold input must stay closed
+			fail("a closed 2-manifold input did not stay closed");
 		if (lm.stats.faces > prevFaces)
-			std::abort(); // monotone face counts
+			fail("face counts are not monotone");
 		prevFaces = lm.stats.faces;
 	}
 	return 0;

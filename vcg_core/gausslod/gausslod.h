@@ -10,7 +10,8 @@
 // Guarantees (for every level that is returned):
 //  - the input is never modified;
 //  - the output is a triangle mesh whose vertices are a subset of the input vertices (no new
-//    positions are created), with no duplicate face and no face with a repeated vertex;
+//    positions are created), with no duplicate face (same vertices, same orientation) and no
+//    face with a repeated vertex;
 //  - every superface border is shared by both superfaces it separates (no crack, no T-junction);
 //    a closed 2-manifold input gives a closed 2-manifold output, and mesh-boundary loops stay loops;
 //  - faces are oriented like the input faces they replace;

@@ -57,7 +57,16 @@ void buildVertexFaces(Topology &t)
 				t.vfFace[size_t(fill[size_t(t.T[3 * f + size_t(k)])]++)] = int32_t(f);
 }
 
-// Drops faces with a repeated vertex and faces whose vertex set an earlier face already has.
+// The vertices of face f rotated so that the smallest comes first (orientation kept).
+std::array<int32_t, 3> orientedKey(const Topology &t, size_t f)
+{
+	const int32_t *v = t.T + 3 * f;
+	const int k = v[0] < v[1] ? (v[0] < v[2] ? 0 : 2) : (v[1] < v[2] ? 1 : 2);
+	return {v[k], v[(k + 1) % 3], v[(k + 2) % 3]};
+}
+
+// Drops faces with a repeated vertex and faces that repeat an earlier face with the same
+// orientation. (A reversed copy is kept: back to back, the two make a two-sided sheet.)
 void dropNonTriangles(Topology &t)
 {
 	t.faceDropped.assign(t.nF, 0);
@@ -70,19 +79,14 @@ void dropNonTriangles(Topology &t)
 	for (size_t f = 0; f < t.nF; ++f) {
 		if (t.faceDropped[f])
 			continue;
-		std::array<int32_t, 3> key = {t.T[3 * f], t.T[3 * f + 1], t.T[3 * f + 2]};
-		std::sort(key.begin(), key.end());
+		const std::array<int32_t, 3> key = orientedKey(t, f);
 		for (int32_t i = t.vfStart[size_t(key[0])]; i < t.vfStart[size_t(key[0]) + 1]; ++i) {
 			const int32_t g = t.vfFace[size_t(i)];
-			if (size_t(g) >= f || t.faceDropped[size_t(g)])
+			if (size_t(g) >= f || t.faceDropped[size_t(g)] || orientedKey(t, size_t(g)) != key)
 				continue;
-			std::array<int32_t, 3> other = {t.T[3 * g], t.T[3 * g + 1], t.T[3 * g + 2]};
-			std::sort(other.begin(), other.end());
-			if (other == key) {
-				t.faceDropped[f] = 1;
-				any = true;
-				break;
-			}
+			t.faceDropped[f] = 1;
+			any = true;
+			break;
 		}
 	}
 	if (any)
