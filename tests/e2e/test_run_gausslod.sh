@@ -68,7 +68,19 @@ if [ $rc -eq 0 ]; then pass "subset: exit 0"; else fail "subset: exit $rc"; fi
 check_levels "$work/subset" fandisk "$work/subset.log" 2 0
 [ "$(ls "$work/subset" | wc -l)" -eq 2 ] || fail "subset: expected 2 files, got: $(ls "$work/subset")"
 
-# 3. failures: non-zero exit and a message saying what is wrong
+# 3. the presets: each runs as shipped and gives the levels it names
+preset() { # NAME LEVEL... (finest first)
+  local name=$1; shift
+  run "preset_$name" "$data/fandisk.off" "$work/preset_$name" "$(dirname "$runner")/gausslod_$name.mlx"
+  if [ $rc -eq 0 ]; then pass "preset $name: exit 0"; else fail "preset $name: exit $rc"; fi
+  check_levels "$work/preset_$name" fandisk "$work/preset_$name.log" "$@"
+  [ "$(ls "$work/preset_$name" | wc -l)" -eq $# ] || fail "preset $name: expected $# files"
+}
+preset paper 4 3 2 1 0
+preset cad 5 4
+preset game 2 1 0
+
+# 4. failures: non-zero exit and a message saying what is wrong
 expect_failure() { # NAME PATTERN
   if [ $rc -ne 0 ] && grep -qi "$2" "$work/$1.log"; then
     pass "$1: exit $rc with '$2'"
