@@ -586,16 +586,92 @@ private:
 		for (Piece &pc : pieces_)
 			simplifyPiece(pc);
 		separateParallelChains();
+		std::vector<Cached> cache(p_.count());
+		std::vector<int32_t> outline;
+		cachedOutlines_.clear();
 		for (size_t s = 0; s < p_.count(); ++s) {
 			const size_t before = tris_.size() / 3;
-			const Failure f = broken[s] ? Failure::Fold : retriangulate(int32_t(s));
+			const size_t retriBefore = retriangulated_;
+			keptOutline(int32_t(s), outline);
+			Cached &c = cache[s];
+			c.firstFace = sfFace_[size_t(sfStart_[s])];
+			c.faceCount = sfStart_[s + 1] - sfStart_[s];
+			c.outlineBegin = int32_t(cachedOutlines_.size());
+			cachedOutlines_.insert(cachedOutlines_.end(), outline.begin(), outline.end());
+			c.outlineEnd = int32_t(cachedOutlines_.size());
+			Failure f = Failure::None;
+			if (broken[s])
+				f = Failure::Fold;
+			else if (!reuse(int32_t(s), c, outline))
+				f = retriangulate(int32_t(s));
 			if (f != Failure::None) {
 				truncate(before);
 				failed_.emplace_back(int32_t(s), f);
 			}
+			c.ok = f == Failure::None;
+			c.retriangulated = retriangulated_ > retriBefore;
+			c.triBegin = int32_t(before);
+			c.triEnd = int32_t(tris_.size() / 3);
 		}
 		if (failed_.empty())
 			checkEdges();
+		// what the next round may reuse
+		prevCache_.swap(cache);
+		prevOutlines_.swap(cachedOutlines_);
+		prevLabel_ = p_.label;
+		prevTris_ = tris_;
+		prevTriBorder_ = triBorder_;
+		prevTriNew_ = triNew_;
+		prevFaceDev_ = faceDev_;
+	}
+
+	// ---------------------------------------------------------- reuse across fallback rounds
+	// A superface with the same faces (same first face and count: partitions only get finer
+	// between rounds) and the same kept border vertices as in the previous round has the same
+	// triangulation: copy it instead of recomputing (a fallback only changes a few superfaces).
+	struct Cached {
+		int32_t firstFace = -1, faceCount = 0, outlineBegin = 0, outlineEnd = 0;
+		int32_t triBegin = 0, triEnd = 0;
+		bool ok = false, retriangulated = false;
+	};
+	std::vector<Cached> prevCache_;
+	std::vector<int32_t> prevLabel_, prevTris_, prevOutlines_, cachedOutlines_;
+	std::vector<uint8_t> prevTriBorder_, prevTriNew_;
+	std::vector<double> prevFaceDev_;
+
+	// The kept vertices of every ring of s, rings separated by -1.
+	void keptOutline(int32_t s, std::vector<int32_t> &out) const
+	{
+		out.clear();
+		for (int32_t r = sfRingStart_[size_t(s)]; r < sfRingStart_[size_t(s) + 1]; ++r) {
+			for (int32_t i = ringStart_[size_t(r)]; i < ringStart_[size_t(r) + 1]; ++i) {
+				const int32_t v = t_.heFrom(ringHE_[size_t(i)]);
+				if (keep_[size_t(v)])
+					out.push_back(v);
+			}
+			out.push_back(-1);
+		}
+	}
+
+	bool reuse(int32_t s, const Cached &now, const std::vector<int32_t> &outline)
+	{
+		if (prevCache_.empty())
+			return false;
+		const int32_t ps = prevLabel_[size_t(now.firstFace)];
+		const Cached &c = prevCache_[size_t(ps)];
+		if (!c.ok || c.firstFace != now.firstFace || c.faceCount != now.faceCount ||
+		    c.outlineEnd - c.outlineBegin != int32_t(outline.size()) ||
+		    !std::equal(outline.begin(), outline.end(), prevOutlines_.begin() + c.outlineBegin))
+			return false;
+		for (int32_t k = c.triBegin; k < c.triEnd; ++k)
+			emit(prevTris_[3 * size_t(k)], prevTris_[3 * size_t(k) + 1], prevTris_[3 * size_t(k) + 2],
+			     s, prevTriBorder_[size_t(k)], prevTriNew_[size_t(k)]);
+		for (int32_t i = sfStart_[size_t(s)]; i < sfStart_[size_t(s) + 1]; ++i) {
+			const int32_t f = sfFace_[size_t(i)];
+			faceDev_[size_t(f)] = prevFaceDev_[size_t(f)];
+		}
+		retriangulated_ += c.retriangulated;
+		return true;
 	}
 
 	// A failed superface first has its border locked (no straightening, no merging); if it still
