@@ -143,10 +143,13 @@ int main(int argc, char **argv)
 			std::printf("{\"level\":%d,\"faces\":%zu,\"vertices\":%zu,\"superfaces\":%zu,"
 			            "\"fallbacks\":%zu,\"retriangulated\":%zu,\"bound_deg\":%.4f,"
 			            "\"max_dev_deg\":%.4f,\"mean_dev_deg\":%.4f,\"unmeasured_faces\":%zu,"
-			            "\"seconds\":%.4f,\"file\":\"%s\"}\n",
+			            "\"seconds\":%.4f,\"seconds_partition\":%.4f,\"seconds_borders\":%.4f,"
+			            "\"seconds_triangulation\":%.4f,\"seconds_checks\":%.4f,\"rounds\":%d,"
+			            "\"reused_finer\":%s,\"file\":\"%s\"}\n",
 			            s.level, s.faces, s.vertices, s.superfaces, s.fallbacks, s.retriangulated,
 			            s.boundDeg, s.maxNormalDevDeg, s.meanNormalDevDeg, s.unmeasuredFaces,
-			            s.seconds, file.c_str());
+			            s.seconds, s.secondsPartition, s.secondsBorders, s.secondsTriangulation,
+			            s.secondsChecks, s.rounds, s.reusedFiner ? "true" : "false", file.c_str());
 		else
 			std::printf("LOD%-3d %9zu %9zu %10zu %9zu %9.2f %9.2f %9.3f %8.3f\n", s.level, s.faces,
 			            s.vertices, s.superfaces, s.fallbacks, s.boundDeg, s.maxNormalDevDeg,

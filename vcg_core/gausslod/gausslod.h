@@ -75,7 +75,13 @@ struct LevelStats {
 	double meanNormalDevDeg = 0; ///< area-weighted mean of the same
 	size_t unmeasuredFaces = 0;  ///< input faces whose centroid fell outside their superface's
 	                             ///< straightened outline (not in the two figures above)
-	double seconds = 0;          ///< wall time spent on this level
+	double seconds = 0;          ///< wall time spent on this level, the sum of the stages:
+	double secondsPartition = 0; ///<  merging the finer level's superfaces (2.5; finest level:
+	                             ///<  adjacency, vertex classes and the finest buckets, 2.1-2.2.1)
+	double secondsBorders = 0;   ///<  rings, straightening, vicinity merging (2.2.2-2.3)
+	double secondsTriangulation = 0; ///< re-triangulation and deviation measurement (2.4)
+	double secondsChecks = 0;    ///<  whole-level validity check and fallback bookkeeping
+	int rounds = 0;              ///< build rounds (1 + rounds caused by fallbacks)
 	bool reusedFiner = false;    ///< the merged partition gave more faces than the next finer
 	                             ///< level: this level is that level's mesh (face counts stay
 	                             ///< monotone; the finer level keeps this level's bound too)

@@ -85,7 +85,8 @@ struct TriangulationJob {
 	// out
 	std::vector<int32_t> tris;       ///< 3 local ring-vertex indices per triangle, CCW
 	std::vector<uint8_t> constrained;///< per triangle: bit k = edge (k,k+1) is a ring edge
-	std::vector<int32_t> queryTri;   ///< triangle containing each query, -1 outside the domain
+	std::vector<int32_t> queryTri;   ///< triangle containing each query (or, just outside the
+	                                 ///< domain, the one across the ring edge); else -1
 };
 /// Returns false when the rings are not a valid planar domain: two ring vertices coincide, ring
 /// edges cross or overlap, or a ring edge is missing from the result.

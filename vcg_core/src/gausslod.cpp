@@ -100,6 +100,7 @@ Result buildLevels(const MeshView &mesh, const Params &params, const Progress &p
 			if (level < finest)
 				coarserPartition(topo, parts[size_t(level) + 1], parts[size_t(level)]);
 			LevelMesh lm;
+			lm.stats.secondsPartition = since(tl) + (level == finest ? setup : 0.0);
 			buildLevelGeometry(topo, params, parts, parts[size_t(level)], lm);
 			if (level < finest && lm.stats.faces > finer.stats.faces) {
 				// keep the levels monotone: the finer level's mesh is valid here too
@@ -108,9 +109,13 @@ Result buildLevels(const MeshView &mesh, const Params &params, const Progress &p
 				p.level = level;
 				for (CellKey &c : p.cell)
 					c = c == kInvalidCell ? c : parentKey(c);
-				const LevelStats fine = finer.stats;
+				LevelStats spent = lm.stats; // the time was spent all the same
 				lm = finer;
-				lm.stats = fine;
+				lm.stats.secondsPartition = spent.secondsPartition;
+				lm.stats.secondsBorders = spent.secondsBorders;
+				lm.stats.secondsTriangulation = spent.secondsTriangulation;
+				lm.stats.secondsChecks = spent.secondsChecks;
+				lm.stats.rounds = spent.rounds;
 				lm.stats.level = level;
 				lm.stats.boundDeg = levelBoundDeg(level);
 				lm.stats.fallbacks = 0;

@@ -8,6 +8,7 @@
 #include "engine.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 namespace gausslod {
@@ -17,6 +18,21 @@ namespace {
 
 constexpr double kRadToDeg = 57.295779513082320876798;
 constexpr int kMaxRounds = 64;
+
+class Stopwatch {
+public:
+	/// Seconds since the last call (or construction).
+	double lap()
+	{
+		const auto now = std::chrono::steady_clock::now();
+		const double s = std::chrono::duration<double>(now - last_).count();
+		last_ = now;
+		return s;
+	}
+
+private:
+	std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
 
 double pointSegmentDistance(const Vec3 &p, const Vec3 &a, const Vec3 &b)
 {
@@ -59,7 +75,8 @@ public:
 		devLimit_ = prm_.deviationFactor > 0 ? prm_.deviationFactor * levelBoundDeg(p_.level) : 180.0;
 		extraLock_.assign(t_.nV, 0);
 		size_t fallbacks = 0;
-		for (int round = 0;; ++round) {
+		int round = 0;
+		for (;; ++round) {
 			if (round == kMaxRounds) // give up simplifying: every vertex kept is always valid
 				std::fill(extraLock_.begin(), extraLock_.end(), uint8_t(1));
 			buildOnce();
@@ -67,8 +84,11 @@ public:
 				break;
 			fallbacks += failed_.size();
 			applyFallbacks();
+			out_.stats.secondsChecks += clock_.lap();
 		}
+		out_.stats.rounds = round + 1;
 		finish(fallbacks);
+		out_.stats.secondsChecks += clock_.lap();
 	}
 
 private:
@@ -496,6 +516,7 @@ private:
 	std::vector<Vec3> triNormalScratch_;
 	std::vector<uint8_t> covered_;
 	double devLimit_ = 180;
+	Stopwatch clock_;
 	double tolerance_ = 0;
 
 	// Rolls back what a failed superface emitted.
@@ -586,6 +607,7 @@ private:
 		for (Piece &pc : pieces_)
 			simplifyPiece(pc);
 		separateParallelChains();
+		out_.stats.secondsBorders += clock_.lap();
 		std::vector<Cached> cache(p_.count());
 		std::vector<int32_t> outline;
 		cachedOutlines_.clear();
@@ -613,6 +635,7 @@ private:
 			c.triBegin = int32_t(before);
 			c.triEnd = int32_t(tris_.size() / 3);
 		}
+		out_.stats.secondsTriangulation += clock_.lap();
 		if (failed_.empty())
 			checkEdges();
 		// what the next round may reuse

@@ -130,11 +130,22 @@ bool triangulateRings(TriangulationJob &job)
 			}
 			job.constrained.push_back(bits);
 		}
+		// A query just outside the domain (an input face cut off by a straightened border) is
+		// given the inside triangle across the ring edge of the face it falls in, if any.
 		CDT::Face_handle loc;
 		for (size_t q = 0; q < job.queryTri.size(); ++q) {
 			loc = cdt.locate(Point(job.queryXY[2 * q], job.queryXY[2 * q + 1]), loc);
-			if (!cdt.is_infinite(loc) && inside(loc))
+			if (inside(loc) && !cdt.is_infinite(loc)) {
 				job.queryTri[q] = loc->info().tri;
+				continue;
+			}
+			for (int i = 0; i < 3; ++i) {
+				CDT::Face_handle n = loc->neighbor(i);
+				if (loc->is_constrained(i) && !cdt.is_infinite(n) && inside(n)) {
+					job.queryTri[q] = n->info().tri;
+					break;
+				}
+			}
 		}
 	} catch (...) {
 		return false; // crossing ring edges (or any CGAL precondition): not a valid domain
