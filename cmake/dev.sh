@@ -43,9 +43,14 @@ case "${1:-}" in
     regressions=(tests/fuzz/regressions/*)
     [ -e "${regressions[0]}" ] && build-fuzz/tests/fuzz/fuzz_gausslod "${regressions[@]}"
     mkdir -p build-fuzz/corpus
-    build-fuzz/tests/fuzz/fuzz_gausslod -max_total_time="${GAUSSLOD_FUZZ_SECONDS:-60}" \
+    if ! build-fuzz/tests/fuzz/fuzz_gausslod -max_total_time="${GAUSSLOD_FUZZ_SECONDS:-60}" \
       -timeout=20 -rss_limit_mb=4096 -artifact_prefix=build-fuzz/ -print_final_stats=1 \
-      build-fuzz/corpus
+      build-fuzz/corpus >build-fuzz/fuzz.log 2>&1; then
+      tail -n 60 build-fuzz/fuzz.log
+      echo "fuzz: FAILED; the crash input is in build-fuzz/ (crash-*): fix, then add it to tests/fuzz/regressions/"
+      exit 1
+    fi
+    grep -E '^(Done|stat::number_of_executed_units|stat::new_units_added)' build-fuzz/fuzz.log || true
     echo "fuzz: passed (no crash, no invariant broken)"
     ;;
   *)
