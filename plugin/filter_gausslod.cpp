@@ -152,6 +152,8 @@ QString levelLogLine(const gausslod::LevelStats &s)
 	        .arg(QString::number(s.seconds, 'f', 3));
 	if (s.unmeasuredFaces > 0)
 		line += QString(" (%1 input faces not measured)").arg(thousands(s.unmeasuredFaces));
+	if (s.reusedFiner)
+		line += QString("; same mesh as LOD%1 (merging gave more faces)").arg(s.level + 1);
 	return line;
 }
 

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -295,4 +296,60 @@ TEST(BadInput, progress_callback_can_cancel)
 	EXPECT_FALSE(r.ok);
 	EXPECT_EQ(r.error, "cancelled");
 	EXPECT_TRUE(r.levels.empty());
+}
+
+namespace {
+// Edges used once or more than twice, or twice in the same direction (sort-based: large meshes).
+size_t openOrBadEdges(const std::vector<int32_t> &t)
+{
+	std::vector<std::pair<uint64_t, int>> e;
+	e.reserve(t.size());
+	for (size_t i = 0; i < t.size(); ++i) {
+		const int32_t a = t[i], b = t[i - i % 3 + (i % 3 + 1) % 3];
+		e.emplace_back((uint64_t(uint32_t(std::min(a, b))) << 32) | uint32_t(std::max(a, b)), a < b);
+	}
+	std::sort(e.begin(), e.end());
+	size_t bad = 0;
+	for (size_t i = 0; i < e.size();) {
+		size_t j = i + 1;
+		while (j < e.size() && e[j].first == e[i].first)
+			++j;
+		bad += (j - i != 2 || e[i].second == e[i + 1].second);
+		i = j;
+	}
+	return bad;
+}
+} // namespace
+
+TEST(BadInput, a_2M_triangle_closed_mesh_gives_closed_levels)
+{
+	// a bumpy sphere of 2,000 x 500 quads (1,996,000 triangles + poles), closed
+	const int nu = 2000, nv = 501;
+	FlatMesh m;
+	for (int j = 1; j < nv; ++j)
+		for (int i = 0; i < nu; ++i) {
+			const double th = M_PI * j / nv, ph = 2 * M_PI * i / nu;
+			const double r = 1 + 0.05 * std::sin(5 * ph) * std::sin(4 * th);
+			m.positions.insert(m.positions.end(), {r * std::sin(th) * std::cos(ph), r * std::sin(th) * std::sin(ph), r * std::cos(th)});
+		}
+	const int32_t top = int32_t(m.positions.size() / 3), bottom = top + 1;
+	m.positions.insert(m.positions.end(), {0, 0, 1, 0, 0, -1});
+	auto id = [&](int j, int i) { return int32_t((j - 1) * nu + (i % nu)); };
+	for (int j = 1; j < nv - 1; ++j)
+		for (int i = 0; i < nu; ++i)
+			m.triangles.insert(m.triangles.end(), {id(j, i), id(j + 1, i), id(j + 1, i + 1), id(j, i), id(j + 1, i + 1), id(j, i + 1)});
+	for (int i = 0; i < nu; ++i)
+		m.triangles.insert(m.triangles.end(), {top, id(1, i), id(1, i + 1), bottom, id(nv - 1, i + 1), id(nv - 1, i)});
+	ASSERT_GE(m.triangles.size() / 3, 2000000u);
+	ASSERT_EQ(openOrBadEdges(m.triangles), 0u);
+	const Result r = buildLevels(m.view(), defaultsFor(m));
+	ASSERT_TRUE(r.ok) << r.error;
+	size_t finer = m.triangles.size() / 3;
+	for (const LevelMesh &lm : r.levels) {
+		EXPECT_EQ(openOrBadEdges(lm.triangles), 0u) << "level " << lm.stats.level;
+		EXPECT_LE(lm.stats.faces, finer);
+		EXPECT_LE(lm.stats.maxNormalDevDeg, lm.stats.boundDeg + 1e-9) << "level " << lm.stats.level;
+		finer = lm.stats.faces;
+	}
+	EXPECT_LT(finer, m.triangles.size() / 3 / 20); // the coarsest level is much lighter
 }
