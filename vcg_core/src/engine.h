@@ -19,6 +19,45 @@ inline int32_t heFace(int32_t h) { return h / 3; }
 inline int32_t heNext(int32_t h) { return h - h % 3 + (h % 3 + 1) % 3; }
 inline int32_t hePrev(int32_t h) { return h - h % 3 + (h % 3 + 2) % 3; }
 
+/// Stable LSD radix sort of (key, value) pairs by key, using only the low `keyBits` bits of the
+/// keys (linear time; std::sort degrades on the periodic keys that regular grids give).
+template <class V>
+void radixSortByKey(std::vector<std::pair<uint64_t, V>> &items, int keyBits)
+{
+	constexpr int kDigit = 11;
+	std::vector<std::pair<uint64_t, V>> tmp(items.size());
+	std::vector<size_t> count(size_t(1) << kDigit);
+	for (int shift = 0; shift < keyBits; shift += kDigit) {
+		std::fill(count.begin(), count.end(), 0);
+		for (const auto &it : items)
+			++count[(it.first >> shift) & ((1u << kDigit) - 1)];
+		size_t sum = 0;
+		for (size_t &c : count) {
+			const size_t n = c;
+			c = sum;
+			sum += n;
+		}
+		for (const auto &it : items)
+			tmp[count[(it.first >> shift) & ((1u << kDigit) - 1)]++] = it;
+		items.swap(tmp);
+	}
+}
+
+/// Bits needed for an index below n.
+inline int bitsFor(size_t n)
+{
+	int b = 1;
+	while ((size_t(1) << b) < n)
+		++b;
+	return b;
+}
+
+/// An undirected edge as a sortable key: (min << 32) | max.
+inline uint64_t edgeKey(int32_t a, int32_t b)
+{
+	return (uint64_t(uint32_t(a < b ? a : b)) << 32) | uint32_t(a < b ? b : a);
+}
+
 enum VertexClass : uint8_t { kFlat = 0, kEdge = 1, kCorner = 2 }; // = importance (2.3.2)
 
 /// Everything derived once from the input mesh.

@@ -15,24 +15,24 @@ namespace {
 void superfaceAdjacency(const Topology &t, const Partition &p, std::vector<int32_t> &start,
                         std::vector<int32_t> &adj)
 {
-	std::vector<uint64_t> pairs;
+	std::vector<std::pair<uint64_t, uint8_t>> pairs;
 	for (size_t h = 0; h < t.twin.size(); ++h) {
 		const int32_t tw = t.twin[h];
 		if (tw < int32_t(h))
 			continue; // boundary (-1) or seen from the other side
 		const int32_t a = p.label[h / 3], b = p.label[size_t(heFace(tw))];
 		if (a != b) {
-			pairs.push_back((uint64_t(uint32_t(a)) << 32) | uint32_t(b));
-			pairs.push_back((uint64_t(uint32_t(b)) << 32) | uint32_t(a));
+			pairs.emplace_back((uint64_t(uint32_t(a)) << 32) | uint32_t(b), 0);
+			pairs.emplace_back((uint64_t(uint32_t(b)) << 32) | uint32_t(a), 0);
 		}
 	}
-	std::sort(pairs.begin(), pairs.end());
+	radixSortByKey(pairs, 32 + bitsFor(p.count()));
 	pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
 	start.assign(p.count() + 1, 0);
 	adj.resize(pairs.size());
 	for (size_t i = 0; i < pairs.size(); ++i) {
-		++start[size_t(pairs[i] >> 32) + 1];
-		adj[i] = int32_t(uint32_t(pairs[i]));
+		++start[size_t(pairs[i].first >> 32) + 1];
+		adj[i] = int32_t(uint32_t(pairs[i].first));
 	}
 	for (size_t s = 0; s < p.count(); ++s)
 		start[s + 1] += start[s];

@@ -238,11 +238,9 @@ private:
 		for (size_t i = 0; i < pieces_.size(); ++i) {
 			const Piece &pc = pieces_[i];
 			if (!pc.loop && pc.a != pc.b && pc.kept == 0)
-				keys.emplace_back((uint64_t(uint32_t(std::min(pc.a, pc.b))) << 32) |
-				                      uint32_t(std::max(pc.a, pc.b)),
-				                  int32_t(i));
+				keys.emplace_back(edgeKey(pc.a, pc.b), int32_t(i));
 		}
-		std::sort(keys.begin(), keys.end());
+		radixSortByKey(keys, 32 + bitsFor(t_.nV));
 		for (size_t i = 0; i < keys.size();) {
 			size_t j = i + 1;
 			while (j < keys.size() && keys[j].first == keys[i].first)
@@ -537,10 +535,9 @@ private:
 		e.reserve(tris_.size());
 		for (size_t k = 0; k < tris_.size(); ++k) {
 			const int32_t a = tris_[k], b = tris_[k - k % 3 + (k % 3 + 1) % 3];
-			const uint64_t key = (uint64_t(uint32_t(std::min(a, b))) << 32) | uint32_t(std::max(a, b));
-			e.emplace_back(key, int32_t(2 * (k / 3) + (a > b)));
+			e.emplace_back(edgeKey(a, b), int32_t(2 * (k / 3) + (a > b)));
 		}
-		std::sort(e.begin(), e.end());
+		radixSortByKey(e, 32 + bitsFor(t_.nV));
 		std::vector<uint8_t> bad(p_.count(), 0);
 		for (size_t i = 0; i < e.size();) {
 			size_t j = i + 1;
