@@ -210,15 +210,6 @@ const std::vector<Case> &corpus()
 	return cases;
 }
 
-Params defaultsFor(const FlatMesh &m)
-{
-	Params p;
-	const double d = bboxDiagonal(m.view());
-	p.straightenTolerance = 0.005 * d;
-	p.mergeDistance = 0.0025 * d;
-	return p;
-}
-
 } // namespace
 
 TEST(BadInput, every_case_gives_its_expected_error_or_valid_levels)
@@ -227,7 +218,7 @@ TEST(BadInput, every_case_gives_its_expected_error_or_valid_levels)
 		SCOPED_TRACE(c.name);
 		const FlatMesh in = c.make();
 		const FlatMesh copy = in;
-		const Result r = buildLevels(in.view(), defaultsFor(in));
+		const Result r = buildLevels(in.view(), defaultParams(in));
 		// the input is never touched (bitwise: NaNs compare by representation)
 		ASSERT_TRUE(in.positions.empty() ||
 		            0 == std::memcmp(copy.positions.data(), in.positions.data(),
@@ -342,7 +333,7 @@ TEST(BadInput, a_2M_triangle_closed_mesh_gives_closed_levels)
 		m.triangles.insert(m.triangles.end(), {top, id(1, i), id(1, i + 1), bottom, id(nv - 1, i + 1), id(nv - 1, i)});
 	ASSERT_GE(m.triangles.size() / 3, 2000000u);
 	ASSERT_EQ(openOrBadEdges(m.triangles), 0u);
-	const Result r = buildLevels(m.view(), defaultsFor(m));
+	const Result r = buildLevels(m.view(), defaultParams(m));
 	ASSERT_TRUE(r.ok) << r.error;
 	size_t finer = m.triangles.size() / 3;
 	for (const LevelMesh &lm : r.levels) {

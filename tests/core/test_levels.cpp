@@ -12,15 +12,6 @@ using namespace testmesh;
 
 namespace {
 
-Params defaults(const FlatMesh &m)
-{
-	Params p;
-	const double diag = bboxDiagonal(m.view());
-	p.straightenTolerance = 0.005 * diag;
-	p.mergeDistance = 0.0025 * diag;
-	return p;
-}
-
 double minAngleDeg(const LevelMesh &lm)
 {
 	double best = 180;
@@ -70,7 +61,7 @@ TEST(Levels, grid_cube_is_exactly_12_triangles_on_8_corners_at_every_level)
 {
 	const FlatMesh cube = gridCube(50);
 	ASSERT_EQ(cube.triangles.size() / 3, 6u * 50 * 50 * 2);
-	const Result r = buildLevels(cube.view(), defaults(cube));
+	const Result r = buildLevels(cube.view(), defaultParams(cube));
 	ASSERT_TRUE(r.ok) << r.error;
 	ASSERT_EQ(r.levels.size(), 5u);
 	for (const LevelMesh &lm : r.levels) {
@@ -89,7 +80,7 @@ TEST(Levels, noisy_grid_cube_reaches_12_triangles_by_level_2)
 {
 	const FlatMesh cube = gridCube(50, 1.0, 1e-4, 3);
 	const TopoFacts inFacts = topoFacts(cube.positions, cube.triangles);
-	const Result r = buildLevels(cube.view(), defaults(cube));
+	const Result r = buildLevels(cube.view(), defaultParams(cube));
 	ASSERT_TRUE(r.ok) << r.error;
 	for (const LevelMesh &lm : r.levels) {
 		std::printf("noisy cube level %d: %zu faces, %zu superfaces, max dev %.3f deg\n",
@@ -106,7 +97,7 @@ TEST(Levels, planar_grid_with_a_square_hole_keeps_boundary_and_hole_as_two_loops
 	const FlatMesh grid = gridWithHole(40, 10, 30);
 	const TopoFacts inFacts = topoFacts(grid.positions, grid.triangles);
 	ASSERT_EQ(inFacts.boundaryLoops, 2u);
-	const Result r = buildLevels(grid.view(), defaults(grid));
+	const Result r = buildLevels(grid.view(), defaultParams(grid));
 	ASSERT_TRUE(r.ok) << r.error;
 	for (const LevelMesh &lm : r.levels) {
 		expectInvariants(grid, inFacts, lm);
@@ -124,7 +115,7 @@ TEST(Levels, real_models_keep_every_invariant_at_every_level)
 		SCOPED_TRACE(name);
 		const FlatMesh m = loadOff(name);
 		const TopoFacts inFacts = topoFacts(m.positions, m.triangles);
-		const Result r = buildLevels(m.view(), defaults(m));
+		const Result r = buildLevels(m.view(), defaultParams(m));
 		ASSERT_TRUE(r.ok) << r.error;
 		ASSERT_EQ(r.levels.size(), 5u);
 		for (const LevelMesh &lm : r.levels)
@@ -137,8 +128,8 @@ TEST(Levels, real_models_keep_every_invariant_at_every_level)
 TEST(Levels, same_input_and_parameters_give_the_same_output)
 {
 	const FlatMesh m = loadOff("fandisk.off");
-	const Result a = buildLevels(m.view(), defaults(m));
-	const Result b = buildLevels(m.view(), defaults(m));
+	const Result a = buildLevels(m.view(), defaultParams(m));
+	const Result b = buildLevels(m.view(), defaultParams(m));
 	ASSERT_TRUE(a.ok && b.ok);
 	ASSERT_EQ(a.levels.size(), b.levels.size());
 	for (size_t i = 0; i < a.levels.size(); ++i) {
@@ -151,7 +142,7 @@ TEST(Levels, same_input_and_parameters_give_the_same_output)
 TEST(Levels, level_mask_selects_levels_finest_first)
 {
 	const FlatMesh m = gridCube(4);
-	Params p = defaults(m);
+	Params p = defaultParams(m);
 	p.levelMask = (1u << 0) | (1u << 3);
 	const Result r = buildLevels(m.view(), p);
 	ASSERT_TRUE(r.ok);
@@ -194,7 +185,7 @@ TEST(Levels, papers_experiment_cow_and_dino_at_max_level_5)
 {
 	for (const char *name : {"cow.off", "dino.off"}) {
 		const FlatMesh m = loadOff(name);
-		const Result r = buildLevels(m.view(), defaults(m));
+		const Result r = buildLevels(m.view(), defaultParams(m));
 		ASSERT_TRUE(r.ok) << r.error;
 		std::printf("paper experiment %s: input %zu", name, m.triangles.size() / 3);
 		for (const LevelMesh &lm : r.levels)

@@ -29,6 +29,16 @@ class TFace : public vcg::Face<TUsedTypes, vcg::face::VertexRef, vcg::face::Norm
                                vcg::face::Color4b, vcg::face::Mark, vcg::face::BitFlags> {};
 class TMesh : public vcg::tri::TriMesh<std::vector<TVertex>, std::vector<TFace>> {};
 
+/// The filter's defaults: tolerances as 0.5 % / 0.25 % of the bounding-box diagonal.
+inline gausslod::Params defaultParams(const gausslod::FlatMesh &m)
+{
+	gausslod::Params p;
+	const double diag = gausslod::bboxDiagonal(m.view());
+	p.straightenTolerance = 0.005 * diag;
+	p.mergeDistance = 0.0025 * diag;
+	return p;
+}
+
 inline std::string dataFile(const std::string &name) { return std::string(GAUSSLOD_DATA) + "/" + name; }
 
 inline gausslod::FlatMesh loadOff(const std::string &name)

@@ -60,6 +60,16 @@ FlatMesh roof(int cells, double creaseDeg)
 	return m;
 }
 
+// The roof with its ridge vertices moved up and down by 1e-3 alternately.
+FlatMesh wigglyRoof(int cells, double creaseDeg)
+{
+	FlatMesh m = roof(cells, creaseDeg);
+	for (size_t v = 0; v < m.positions.size() / 3; ++v)
+		if (m.positions[3 * v] == 0.0)
+			m.positions[3 * v + 2] += (v % 2 ? 1e-3 : -1e-3);
+	return m;
+}
+
 } // namespace
 
 TEST(VertexClasses, cube_corners_are_corners_edges_are_edges_faces_are_flat)
@@ -114,10 +124,7 @@ TEST(Straightening, tolerance_bounds_how_far_a_removed_border_vertex_may_be_from
 {
 	// A roof with a 40 degree crease whose ridge wiggles: zero tolerance keeps every ridge
 	// vertex; a tolerance above the wiggle straightens the ridge to one segment.
-	FlatMesh m = roof(20, 40);
-	for (size_t v = 0; v < m.positions.size() / 3; ++v)
-		if (m.positions[3 * v] == 0.0)
-			m.positions[3 * v + 2] += (v % 2 ? 1e-3 : -1e-3);
+	const FlatMesh m = wigglyRoof(20, 40);
 	Params keepAll;
 	keepAll.maxLevel = 3;
 	const Result a = buildLevels(m.view(), keepAll);
@@ -143,10 +150,7 @@ TEST(VicinityMerging, close_border_vertices_merge_and_the_chain_ends_survive)
 {
 	// The wiggly ridge again, with a zero straightening tolerance: every ridge vertex is kept
 	// unless vicinity merging removes it.
-	FlatMesh m = roof(20, 20);
-	for (size_t v = 0; v < m.positions.size() / 3; ++v)
-		if (m.positions[3 * v] == 0.0)
-			m.positions[3 * v + 2] += (v % 2 ? 1e-3 : -1e-3);
+	const FlatMesh m = wigglyRoof(20, 20);
 	Params p;
 	p.maxLevel = 3;
 	const Result none = buildLevels(m.view(), p);

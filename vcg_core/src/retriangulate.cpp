@@ -86,37 +86,43 @@ bool triangulateRings(TriangulationJob &job)
 			vh[i]->info() = int32_t(i);
 			hint = vh[i];
 		}
-		for (size_t r = 0; r + 1 < job.ringStart.size(); ++r) {
-			const int32_t b = job.ringStart[r], e = job.ringStart[r + 1];
-			for (int32_t i = b; i < e; ++i) {
-				const int32_t j = (i + 1 < e) ? i + 1 : b;
-				CDT::Face_handle fh;
-				int idx;
-				if (cdt.is_edge(vh[size_t(i)], vh[size_t(j)], fh, idx) && fh->is_constrained(idx))
-					return false; // the same edge twice: the domain is degenerate
-				cdt.insert_constraint(vh[size_t(i)], vh[size_t(j)]);
+		// calls f(i, j) for every ring edge i -> j (local vertex indices); false stops
+		auto allRingEdges = [&](auto f) {
+			for (size_t r = 0; r + 1 < job.ringStart.size(); ++r) {
+				const int32_t b = job.ringStart[r], e = job.ringStart[r + 1];
+				for (int32_t i = b; i < e; ++i)
+					if (!f(size_t(i), size_t(i + 1 < e ? i + 1 : b)))
+						return false;
 			}
-		}
+			return true;
+		};
+		const bool constrained = allRingEdges([&](size_t i, size_t j) {
+			CDT::Face_handle fh;
+			int idx;
+			if (cdt.is_edge(vh[i], vh[j], fh, idx) && fh->is_constrained(idx))
+				return false; // the same edge twice: the domain is degenerate
+			cdt.insert_constraint(vh[i], vh[j]);
+			return true;
+		});
+		if (!constrained)
+			return false;
 		if (cdt.number_of_vertices() != n)
 			return false;
 		markNesting(cdt);
 		// Every ring edge must be an edge of the triangulation (not split by a vertex lying on it)
 		// with the superface on its left: rings are traced with the superface on their left.
-		for (size_t r = 0; r + 1 < job.ringStart.size(); ++r) {
-			const int32_t b = job.ringStart[r], e = job.ringStart[r + 1];
-			for (int32_t i = b; i < e; ++i) {
-				const int32_t j = (i + 1 < e) ? i + 1 : b;
-				CDT::Face_handle fh;
-				int idx;
-				if (!cdt.is_edge(vh[size_t(i)], vh[size_t(j)], fh, idx))
-					return false;
-				CDT::Face_handle left = fh, right = fh->neighbor(idx);
-				if (fh->vertex(CDT::ccw(idx)) != vh[size_t(i)])
-					std::swap(left, right);
-				if (cdt.is_infinite(left) || !inside(left) || inside(right))
-					return false;
-			}
-		}
+		const bool leftInside = allRingEdges([&](size_t i, size_t j) {
+			CDT::Face_handle fh;
+			int idx;
+			if (!cdt.is_edge(vh[i], vh[j], fh, idx))
+				return false;
+			CDT::Face_handle left = fh, right = fh->neighbor(idx);
+			if (fh->vertex(CDT::ccw(idx)) != vh[i])
+				std::swap(left, right);
+			return !cdt.is_infinite(left) && inside(left) && !inside(right);
+		});
+		if (!leftInside)
+			return false;
 		for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
 			if (!inside(f))
 				continue;
