@@ -1,0 +1,109 @@
+// Mesh types and small helpers shared by the bench programs (VCG, header-only).
+#pragma once
+
+#include <vcg/complex/complex.h>
+#include <wrap/io_trimesh/export_ply.h>
+#include <wrap/io_trimesh/import.h>
+
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace bench {
+
+// Single precision, like the gausslod tool's mesh (tools/gausslod_cli.cpp): used for loading,
+// converting and writing.
+class FVertex;
+class FFace;
+struct FUsedTypes : public vcg::UsedTypes<vcg::Use<FVertex>::AsVertexType, vcg::Use<FFace>::AsFaceType> {};
+class FVertex : public vcg::Vertex<FUsedTypes, vcg::vertex::Coord3f, vcg::vertex::Normal3f,
+                                   vcg::vertex::Color4b, vcg::vertex::BitFlags> {};
+class FFace : public vcg::Face<FUsedTypes, vcg::face::VertexRef, vcg::face::Normal3f,
+                               vcg::face::Color4b, vcg::face::BitFlags> {};
+class FMesh : public vcg::tri::TriMesh<std::vector<FVertex>, std::vector<FFace>> {};
+
+inline double now()
+{
+	return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+template <class MeshT>
+bool load(MeshT &m, const std::string &file, std::string &err)
+{
+	int mask = 0;
+	const int e = vcg::tri::io::Importer<MeshT>::Open(m, file.c_str(), mask);
+	if (e != 0 && vcg::tri::io::Importer<MeshT>::ErrorCritical(e)) {
+		err = vcg::tri::io::Importer<MeshT>::ErrorMsg(e);
+		return false;
+	}
+	return true;
+}
+
+/// Flat arrays (positions, triangles), skipping deleted elements.
+struct Flat {
+	std::vector<float> pos;
+	std::vector<uint32_t> tri;
+	size_t vn() const { return pos.size() / 3; }
+	size_t fn() const { return tri.size() / 3; }
+};
+
+inline Flat flatten(const FMesh &m)
+{
+	Flat out;
+	std::vector<int64_t> remap(m.vert.size(), -1);
+	for (size_t i = 0; i < m.vert.size(); ++i) {
+		if (m.vert[i].IsD())
+			continue;
+		remap[i] = int64_t(out.pos.size() / 3);
+		for (int k = 0; k < 3; ++k)
+			out.pos.push_back(m.vert[i].cP()[k]);
+	}
+	for (const auto &f : m.face) {
+		if (f.IsD())
+			continue;
+		for (int k = 0; k < 3; ++k)
+			out.tri.push_back(uint32_t(remap[vcg::tri::Index(m, f.cV(k))]));
+	}
+	return out;
+}
+
+/// Writes positions (double or float, 3 per vertex) and triangles as binary PLY, dropping
+/// vertices that no triangle uses.
+template <class Real, class Index>
+bool writePly(const std::string &file, const std::vector<Real> &pos, const std::vector<Index> &tri)
+{
+	const size_t nv = pos.size() / 3;
+	std::vector<int64_t> remap(nv, -1);
+	FMesh m;
+	size_t used = 0;
+	for (Index i : tri)
+		if (remap[size_t(i)] < 0)
+			remap[size_t(i)] = int64_t(used++);
+	auto vi = vcg::tri::Allocator<FMesh>::AddVertices(m, used);
+	(void)vi;
+	for (size_t i = 0; i < nv; ++i)
+		if (remap[i] >= 0)
+			m.vert[size_t(remap[i])].P() =
+			    vcg::Point3f(float(pos[3 * i]), float(pos[3 * i + 1]), float(pos[3 * i + 2]));
+	auto fi = vcg::tri::Allocator<FMesh>::AddFaces(m, tri.size() / 3);
+	for (size_t f = 0; f < tri.size() / 3; ++f, ++fi)
+		for (int k = 0; k < 3; ++k)
+			fi->V(k) = &m.vert[size_t(remap[size_t(tri[3 * f + k])])];
+	return vcg::tri::io::ExporterPLY<FMesh>::Save(m, file.c_str(), 0, true) == 0;
+}
+
+/// Minimal JSON string escaping (file names).
+inline std::string jsonStr(const std::string &s)
+{
+	std::string o = "\"";
+	for (char c : s) {
+		if (c == '"' || c == '\\')
+			o += '\\';
+		o += c;
+	}
+	return o + "\"";
+}
+
+} // namespace bench

@@ -1,0 +1,823 @@
+#!/usr/bin/env python3
+"""GaussLOD against peer simplifiers: runs everything, measures, writes results/RESULTS.md.
+
+Called by bench/run_bench.sh after the build (see bench/README.md). Every figure in the report is
+measured in this run; nothing is carried over from an earlier one.
+"""
+import argparse
+import datetime
+import json
+import math
+import os
+import select
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+
+BENCH = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(BENCH)
+DATA = os.path.join(ROOT, ".deps", "cgal-data", "data", "meshes")
+
+QUADRIC = "Simplification: Quadric Edge Collapse Decimation"
+SELECT_NONE = "Select None"
+
+# name, source, group(s). "cad" marks the models of the normal-deviation bar.
+MODELS = [
+    {"name": "cow", "off": "cow.off", "groups": ["real"]},
+    {"name": "fandisk", "off": "fandisk.off", "groups": ["real", "cad"]},
+    {"name": "bunny00", "off": "bunny00.off", "groups": ["real"]},
+    {"name": "anchor", "off": "anchor.off", "groups": ["cad"]},
+    {"name": "joint", "off": "joint.off", "groups": ["cad"]},
+    {"name": "couplingdown", "off": "couplingdown.off", "groups": ["cad"]},
+    {"name": "cheese", "off": "cheese.off", "groups": ["cad"]},
+    {"name": "blade", "off": "blade.off", "groups": ["cad"]},
+    {"name": "cube50", "gen": ["cube", "50"], "groups": ["synthetic", "gridcube"]},
+    {"name": "cube50_noise", "gen": ["cube", "50", "@OUT", "1e-4"], "groups": ["synthetic"]},
+    {"name": "uvsphere", "gen": ["sphere", "128", "64"], "groups": ["synthetic"]},
+    {"name": "bumpy_100k", "gen": ["bumpy", "224", "224"], "groups": ["synthetic", "small"]},
+    # The speed bars' mesh (>= 1M faces): peers only at GaussLOD's coarsest level (time budget).
+    {"name": "bumpy_1m", "gen": ["bumpy", "708", "708"], "groups": ["synthetic", "speed"], "peers": "coarsest"},
+    # The scaling bar's mesh (2M faces): GaussLOD only (Blender alone would take ~9 min here).
+    {"name": "bumpy_2m", "gen": ["bumpy", "1000", "1000"], "groups": ["synthetic", "scale"], "peers": "none"},
+]
+QUICK = ["cube50", "fandisk", "anchor", "bumpy_100k"]
+
+PEERS = ["meshopt", "cgal_gh", "meshlab_quadric", "meshlab_quadric_planar", "blender_planar"]
+LABEL = {
+    "gausslod": "GaussLOD",
+    "meshopt": "meshopt_simplify",
+    "cgal_gh": "CGAL GH plane",
+    "meshlab_quadric": "MeshLab quadric",
+    "meshlab_quadric_planar": "MeshLab quadric+planar",
+    "blender_planar": "Blender planar",
+}
+
+
+def log(msg):
+    print("[bench %s] %s" % (time.strftime("%H:%M:%S"), msg), flush=True)
+
+
+# ---- running processes ---------------------------------------------------------------------------
+
+def run(cmd, timeout, env=None, time_wrap=True, wrap_prefix=None):
+    """Runs cmd under /usr/bin/time -v (peak RSS of that process). stdout is read as it comes
+    (chunks with arrival times, for meshlabserver's unbuffered log). Returns a dict."""
+    tfile = tempfile.NamedTemporaryFile(prefix="bench_time_", delete=False)
+    tfile.close()
+    full = list(cmd)
+    if time_wrap:
+        full = ["/usr/bin/time", "-v", "-o", tfile.name] + full
+    if wrap_prefix:
+        full = list(wrap_prefix) + full
+    errf = tempfile.TemporaryFile()
+    t0 = time.perf_counter()
+    p = subprocess.Popen(full, stdout=subprocess.PIPE, stderr=errf, env=env, start_new_session=True)
+    chunks = []
+    timed_out = False
+    fd = p.stdout.fileno()
+    while True:
+        left = timeout - (time.perf_counter() - t0)
+        if left <= 0:
+            timed_out = True
+            break
+        r, _, _ = select.select([fd], [], [], min(left, 5.0))
+        if not r:
+            continue
+        c = os.read(fd, 1 << 16)
+        if not c:
+            break
+        chunks.append((time.perf_counter() - t0, c))
+    if timed_out:
+        try:
+            os.killpg(p.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    p.wait()
+    wall = time.perf_counter() - t0
+    errf.seek(0)
+    stderr = errf.read().decode("utf-8", "replace")
+    errf.close()
+    peak_kb = None
+    try:
+        with open(tfile.name) as f:
+            for line in f:
+                if "Maximum resident set size" in line:
+                    peak_kb = int(line.split(":")[1])
+    except OSError:
+        pass
+    os.unlink(tfile.name)
+    out = b"".join(c for _, c in chunks).decode("utf-8", "replace")
+    return {"rc": p.returncode, "stdout": out, "stderr": stderr, "wall": wall, "chunks": chunks,
+            "peak_mb": (peak_kb / 1024.0) if peak_kb else None, "timed_out": timed_out}
+
+
+def first_mark(res, text):
+    """Arrival time of the stdout chunk that holds the first occurrence of text."""
+    seen = b""
+    key = text.encode()
+    for t, c in res["chunks"]:
+        seen += c
+        if key in seen:
+            return t
+    return None
+
+
+def json_lines(text):
+    out = []
+    for line in text.splitlines():
+        line = line.strip()
+        if line.startswith("{"):
+            try:
+                out.append(json.loads(line))
+            except ValueError:
+                pass
+    return out
+
+
+def fail_reason(res):
+    if res["timed_out"]:
+        return "timeout"
+    tail = (res["stderr"].strip().splitlines() or res["stdout"].strip().splitlines() or [""])[-1]
+    return "rc=%s %s" % (res["rc"], tail[:120])
+
+
+# ---- the bench ------------------------------------------------------------------------------------
+
+class Bench:
+    def __init__(self, args):
+        self.args = args
+        self.build = args.build
+        self.work = os.path.join(self.build, "work")
+        os.makedirs(self.work, exist_ok=True)
+        self.exe = {n: os.path.join(self.build, n) for n in
+                    ["gausslod", "bench_gen", "bench_load", "bench_peers", "bench_metrics"]}
+        self.rows = []       # one per (model, method, level)
+        self.models = {}     # name -> info (faces, load peak, gausslod totals, ...)
+        self.xdg = tempfile.mkdtemp(prefix="bench_xdg_")
+        os.chmod(self.xdg, 0o700)
+        self.ml_env = dict(os.environ, XDG_CONFIG_HOME=self.xdg, XDG_RUNTIME_DIR=self.xdg)
+        self.have_meshlab = shutil.which("meshlabserver") and shutil.which("xvfb-run")
+        self.have_blender = shutil.which("blender")
+
+    # -- inputs
+    def prepare(self, m):
+        d = os.path.join(self.work, "models")
+        os.makedirs(d, exist_ok=True)
+        out = os.path.join(d, m["name"] + ".ply")
+        if os.path.exists(out):
+            return out
+        if "off" in m:
+            cmd = [self.exe["bench_gen"], "convert", os.path.join(DATA, m["off"]), out]
+        else:
+            g = list(m["gen"])
+            if "@OUT" in g:
+                g[g.index("@OUT")] = out
+            else:
+                g.append(out)
+            cmd = [self.exe["bench_gen"]] + g
+        r = run(cmd, 600, time_wrap=False)
+        if r["rc"] != 0 or not os.path.exists(out):
+            raise RuntimeError("cannot make %s: %s" % (out, fail_reason(r)))
+        return out
+
+    # -- quality of one output
+    def metrics(self, orig, simp):
+        r = run([self.exe["bench_metrics"], "--samples", str(self.args.samples), orig, simp], 1800,
+                time_wrap=False)
+        js = json_lines(r["stdout"])
+        if r["rc"] != 0 or not js:
+            return None, fail_reason(r)
+        return js[0], None
+
+    def add_row(self, model, method, level, target, res, orig, note=""):
+        """res: dict with file, seconds, peak_mb, faces (or error)."""
+        row = {"model": model, "method": method, "level": level, "target": target,
+               "seconds": res.get("seconds"), "peak_mb": res.get("peak_mb"),
+               "wall": res.get("wall"), "note": note, "error": res.get("error")}
+        for k in ("angle_deg", "timing", "extra"):
+            if k in res:
+                row[k] = res[k]
+        if not row["error"]:
+            if res.get("faces") == 0:
+                row["error"] = "empty output (0 faces)"
+                row["faces"] = 0
+            elif not os.path.exists(res["file"]):
+                row["error"] = "no output file"
+            else:
+                met, err = self.metrics(orig, res["file"])
+                if met is None:
+                    row["error"] = "metrics failed: " + err
+                else:
+                    row.update({k: met[k] for k in met if k not in ("seconds",)})
+                    row["metrics_seconds"] = met["seconds"]
+        self.rows.append(row)
+        with open(os.path.join(self.work, "rows.jsonl"), "a") as f:
+            f.write(json.dumps(row) + "\n")
+        return row
+
+    # -- GaussLOD
+    def gausslod(self, name, ply):
+        outdir = os.path.join(self.work, "out", name, "gausslod")
+        shutil.rmtree(outdir, ignore_errors=True)
+        r = run([self.exe["gausslod"], "--json", ply, outdir], 3600)
+        levels = json_lines(r["stdout"])
+        if r["rc"] != 0 or not levels:
+            return None, r, fail_reason(r)
+        return levels, r, None
+
+    # -- peers
+    def peer_inproc(self, method, ply, target, out):
+        r = run([self.exe["bench_peers"], method, ply, str(target), out], self.args.timeout)
+        js = json_lines(r["stdout"])
+        if r["rc"] != 0 or not js:
+            return {"error": fail_reason(r), "peak_mb": r["peak_mb"], "wall": r["wall"]}
+        j = js[0]
+        extra = {k: j[k] for k in ("collapse_seconds", "skipped_input_faces", "result_error") if k in j}
+        return {"file": out, "faces": j["faces"], "seconds": j["seconds"], "peak_mb": r["peak_mb"],
+                "wall": r["wall"], "extra": extra}
+
+    def mlx(self, filters):
+        parts = ['<!DOCTYPE FilterScript>', '<FilterScript>']
+        for name, params in filters:
+            parts.append(' <filter name="%s">' % name)
+            for ptype, pname, value in params:
+                parts.append('  <Param type="%s" name="%s" value="%s"/>' % (ptype, pname, value))
+            parts.append(' </filter>')
+        parts.append('</FilterScript>')
+        return "\n".join(parts) + "\n"
+
+    @staticmethod
+    def quadric_params(target, planar):
+        # Every parameter of the filter (meshfilter.cpp, FP_QUADRIC_SIMPLIFICATION), MeshLab's
+        # defaults except the target and PlanarQuadric.
+        b = lambda v: "true" if v else "false"
+        return [("RichInt", "TargetFaceNum", str(target)), ("RichFloat", "TargetPerc", "0"),
+                ("RichFloat", "QualityThr", "0.3"), ("RichBool", "PreserveBoundary", "false"),
+                ("RichFloat", "BoundaryWeight", "1"), ("RichBool", "PreserveNormal", "false"),
+                ("RichBool", "PreserveTopology", "false"), ("RichBool", "OptimalPlacement", "true"),
+                ("RichBool", "PlanarQuadric", b(planar)), ("RichFloat", "PlanarWeight", "0.001"),
+                ("RichBool", "QualityWeight", "false"), ("RichBool", "AutoClean", "true"),
+                ("RichBool", "Selected", "false")]
+
+    SELECT_NONE_PARAMS = [("RichBool", "allFaces", "true"), ("RichBool", "allVerts", "true")]
+
+    def meshlab_run(self, ply, out, filters, tag):
+        script = out + "." + tag + ".mlx"
+        with open(script, "w") as f:
+            f.write(self.mlx(filters))
+        if os.path.exists(out):
+            os.unlink(out)
+        # time -v wraps meshlabserver itself (not Xvfb); stdbuf -o0: its log arrives as written.
+        r = run(["stdbuf", "-o0", "/usr/bin/time", "-v", "-o", out + ".time",
+                 "meshlabserver", "-i", ply, "-o", out, "-s", script],
+                self.args.timeout, env=self.ml_env, time_wrap=False, wrap_prefix=["xvfb-run", "-a"])
+        try:
+            with open(out + ".time") as f:
+                for line in f:
+                    if "Maximum resident set size" in line:
+                        r["peak_mb"] = int(line.split(":")[1]) / 1024.0
+        except OSError:
+            pass
+        return r
+
+    def meshlab_baseline(self, name, ply):
+        """Gap between two cheap filters: what meshlabserver spends between filters anyway."""
+        out = os.path.join(self.work, "out", name, "meshlab_baseline.ply")
+        r = self.meshlab_run(ply, out, [(SELECT_NONE, self.SELECT_NONE_PARAMS)] * 2, "base")
+        t1 = first_mark(r, "filter: " + SELECT_NONE)
+        seen = b"".join(c for _, c in r["chunks"])
+        idx = seen.find(("filter: " + SELECT_NONE).encode())
+        t2 = None
+        if idx >= 0:
+            second = ("filter: " + SELECT_NONE).encode()
+            acc = b""
+            for t, c in r["chunks"]:
+                acc += c
+                if acc.count(second) >= 2:
+                    t2 = t
+                    break
+        ok = r["rc"] == 0 and os.path.exists(out) and t1 is not None and t2 is not None
+        return {"gap": (t2 - t1) if ok else None, "wall": r["wall"], "error": None if ok else fail_reason(r)}
+
+    def meshlab_quadric(self, name, ply, target, planar, base):
+        tag = "meshlab_quadric_planar" if planar else "meshlab_quadric"
+        out = os.path.join(self.work, "out", name, "%s_%d.ply" % (tag, target))
+        r = self.meshlab_run(ply, out, [(QUADRIC, self.quadric_params(target, planar)),
+                                        (SELECT_NONE, self.SELECT_NONE_PARAMS)], "q")
+        t1 = first_mark(r, "filter: " + QUADRIC)
+        t2 = first_mark(r, "filter: " + SELECT_NONE)
+        res = {"peak_mb": r.get("peak_mb"), "wall": r["wall"]}
+        if r["timed_out"] or not os.path.exists(out) or t1 is None or t2 is None \
+                or "Problem with filter" in r["stdout"]:
+            res["error"] = fail_reason(r) if (r["timed_out"] or r["rc"]) else \
+                "no output / filter did not run (rc=%s)" % r["rc"]
+            return res
+        faces = None
+        for line in r["stdout"].splitlines():
+            if " saved as " in line and " fn)" in line:
+                try:
+                    faces = int(line.rsplit("vn", 1)[1].split("fn")[0])
+                except (ValueError, IndexError):
+                    pass
+        gap = t2 - t1
+        res.update({"file": out, "faces": faces, "seconds": max(0.0, gap - (base["gap"] or 0.0)),
+                    "timing": "log-gap", "extra": {"gap_seconds": gap, "baseline_gap_seconds": base["gap"],
+                                                   "baseline_wall": base["wall"]}})
+        return res
+
+    def blender(self, name, ply, angle):
+        out = os.path.join(self.work, "out", name, "blender_planar_%.4f.ply" % angle)
+        if os.path.exists(out):
+            os.unlink(out)
+        r = run(["blender", "-b", "-noaudio", "--factory-startup", "--python",
+                 os.path.join(BENCH, "blender_planar.py"), "--", ply, out, "%.6f" % angle],
+                self.args.blender_timeout)
+        js = None
+        for line in r["stdout"].splitlines():
+            if line.startswith("BENCH_JSON "):
+                js = json.loads(line[len("BENCH_JSON "):])
+        res = {"peak_mb": r["peak_mb"], "wall": r["wall"], "angle_deg": angle}
+        if js is None:
+            res["error"] = fail_reason(r)
+            return res
+        res.update({"file": out, "faces": js["faces"], "seconds": js["seconds"],
+                    "extra": {"dissolve_seconds": js["dissolve_seconds"], "version": js["version"]}})
+        return res
+
+    # -- one model
+    def model(self, m):
+        name = m["name"]
+        peers = m.get("peers", "all")
+        if peers == "coarsest" and self.args.big_all_levels:
+            peers = "all"
+        log("model %s: preparing" % name)
+        ply = self.prepare(m)
+        os.makedirs(os.path.join(self.work, "out", name), exist_ok=True)
+        info = {"name": name, "groups": m["groups"], "ply": ply, "peers": m.get("peers", "all")}
+        self.models[name] = info
+        lr = run([self.exe["bench_load"], ply], 600)
+        lj = json_lines(lr["stdout"])
+        info["faces_in"] = lj[0]["faces"] if lj else None
+        info["load_peak_mb"] = lr["peak_mb"]
+        log("model %s: %s faces; GaussLOD" % (name, info["faces_in"]))
+        levels, gr, err = self.gausslod(name, ply)
+        info["gausslod_peak_mb"] = gr["peak_mb"]
+        info["gausslod_wall"] = gr["wall"]
+        if err:
+            info["gausslod_error"] = err
+            self.add_row(name, "gausslod", None, None, {"error": err, "peak_mb": gr["peak_mb"]}, ply)
+            return
+        info["gausslod_seconds"] = sum(l["seconds"] for l in levels)
+        info["levels"] = levels
+        for l in levels:
+            self.add_row(name, "gausslod", l["level"], None,
+                         {"file": l["file"], "faces": l["faces"], "seconds": l["seconds"],
+                          "peak_mb": gr["peak_mb"], "extra": {k: l[k] for k in
+                                                              ("fallbacks", "superfaces", "bound_deg")}},
+                         ply)
+        targets = levels
+        if peers == "coarsest":
+            targets = [min(levels, key=lambda l: l["level"])]  # coarsest only (time budget)
+        elif peers == "none":
+            targets = []
+        methods = [p for p in PEERS if p in self.args.methods]
+        base = None
+        done = {}
+        for l in targets:
+            lv, F, angle = l["level"], l["faces"], l["bound_deg"]
+            for meth in methods:
+                key = (meth, angle if meth == "blender_planar" else F)
+                if key in done:
+                    prev = done[key]
+                    row = dict(prev)
+                    row["level"] = lv
+                    row["note"] = "same run as L%d" % prev["level"]
+                    self.rows.append(row)
+                    continue
+                log("model %s L%d: %s (%s)" % (name, lv, meth,
+                                               "%.4f deg" % angle if meth == "blender_planar" else "%d faces" % F))
+                out = os.path.join(self.work, "out", name, "%s_%d.ply" % (meth, F))
+                if meth in ("meshopt", "cgal_gh"):
+                    res = self.peer_inproc(meth, ply, F, out)
+                elif meth.startswith("meshlab"):
+                    if not self.have_meshlab:
+                        res = {"error": "meshlabserver or xvfb-run not installed"}
+                    else:
+                        if base is None:
+                            base = self.meshlab_baseline(name, ply)
+                            info["meshlab_baseline"] = base
+                        res = self.meshlab_quadric(name, ply, F, meth.endswith("planar"), base)
+                else:
+                    if not self.have_blender:
+                        res = {"error": "blender not installed"}
+                    else:
+                        res = self.blender(name, ply, angle)
+                target = None if meth == "blender_planar" else F
+                done[key] = self.add_row(name, meth, lv, target, res, ply)
+
+    def run_all(self, models):
+        t0 = time.perf_counter()
+        open(os.path.join(self.work, "rows.jsonl"), "w").close()
+        for m in models:
+            try:
+                self.model(m)
+            except Exception as e:  # keep going: the report says what failed
+                log("model %s failed: %s" % (m["name"], e))
+                self.models.setdefault(m["name"], {"name": m["name"], "groups": m["groups"]})["error"] = str(e)
+        self.total_wall = time.perf_counter() - t0
+        shutil.rmtree(self.xdg, ignore_errors=True)
+
+
+# ---- report ---------------------------------------------------------------------------------------
+
+def fmt(v, spec="%.3g"):
+    if v is None:
+        return "–"
+    if isinstance(v, float) and math.isnan(v):
+        return "–"
+    return spec % v
+
+
+def machine_line():
+    cpu = "?"
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    cpu = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    nproc = subprocess.run(["nproc"], capture_output=True, text=True).stdout.strip()
+    mem = "?"
+    try:
+        with open("/proc/meminfo") as f:
+            mem = "%.1f GiB" % (int(f.readline().split()[1]) / 1024.0 / 1024.0)
+    except OSError:
+        pass
+    return "nproc %s, CPU %s, RAM %s" % (nproc, cpu, mem)
+
+
+def versions():
+    out = []
+    for pkg in ["libmeshoptimizer-dev", "libcgal-dev", "meshlab", "blender"]:
+        v = subprocess.run(["dpkg-query", "-W", "-f", "${Version}", pkg], capture_output=True,
+                           text=True).stdout.strip()
+        out.append("%s %s" % (pkg, v or "(not installed)"))
+    return ", ".join(out)
+
+
+def plot(bench, resdir, name, rows):
+    """Hausdorff vs faces, one line per method (gnuplot, PNG)."""
+    if not shutil.which("gnuplot"):
+        return None
+    d = os.path.join(bench.work, "plot")
+    os.makedirs(d, exist_ok=True)
+    series = []
+    allpos = True
+    for meth in ["gausslod"] + PEERS:
+        pts = sorted({(r["faces"], r["hausdorff_pct"]) for r in rows
+                      if r["method"] == meth and not r.get("error") and r.get("hausdorff_pct") is not None})
+        if not pts:
+            continue
+        allpos = allpos and all(h > 0 for _, h in pts)
+        fn = os.path.join(d, "%s_%s.dat" % (name, meth))
+        with open(fn, "w") as f:
+            for fc, h in pts:
+                f.write("%d %.9g\n" % (fc, h))
+        series.append((fn, LABEL[meth]))
+    if not series:
+        return None
+    png = os.path.join(resdir, "hausdorff_%s.png" % name)
+    gp = ["set terminal pngcairo size 760,480 font 'Sans,10'",
+          "set output '%s'" % png,
+          "set title 'Hausdorff distance vs face count: %s'" % name,
+          "set xlabel 'faces (log)'", "set ylabel 'Hausdorff, %% of bbox diagonal%s'" % (" (log)" if allpos else ""),
+          "set termoption noenhanced", "set logscale x", "set grid", "set key outside right top", "set format x '%.0s%c'", "set format y '%g'"]
+    if allpos:
+        gp.append("set logscale y")
+    styles = ["lw 2 pt 7 lc rgb '#d62728'", "pt 5 lc rgb '#1f77b4'", "pt 9 lc rgb '#2ca02c'",
+              "pt 11 lc rgb '#9467bd'", "pt 13 lc rgb '#8c564b'", "pt 3 lc rgb '#ff7f0e'"]
+    gp.append("plot " + ", ".join("'%s' using 1:2 with linespoints %s title '%s'" % (fn, styles[i % len(styles)], t)
+                                  for i, (fn, t) in enumerate(series)))
+    script = os.path.join(d, name + ".gp")
+    with open(script, "w") as f:
+        f.write("\n".join(gp) + "\n")
+    r = subprocess.run(["gnuplot", script], capture_output=True, text=True)
+    return os.path.basename(png) if r.returncode == 0 and os.path.exists(png) else None
+
+
+def bars(bench):
+    """The issue's bars as measured ratios. Returns Markdown lines."""
+    rows, models = bench.rows, bench.models
+    L = []
+
+    def ok(flag):
+        return "**met**" if flag else "**MISSED**"
+
+    big = next((m for m in models.values() if "speed" in m.get("groups", []) and m.get("levels")), None)
+    scale = next((m for m in models.values() if "scale" in m.get("groups", []) and m.get("levels")), None)
+    small = next((m for m in models.values() if "small" in m.get("groups", []) and m.get("levels")), None)
+
+    def peer_row(model, meth, level):
+        for r in rows:
+            if r["model"] == model and r["method"] == meth and r["level"] == level:
+                return r
+        return None
+
+    L.append("### Speed (GaussLOD: all 5 levels, engine time summed over levels, in-process)")
+    if big:
+        g = big["gausslod_seconds"]
+        coarse = min(l["level"] for l in big["levels"])
+        cf = [l for l in big["levels"] if l["level"] == coarse][0]["faces"]
+        L.append("Mesh `%s`: %s input faces; GaussLOD %.2f s for all %d levels (process wall %.2f s); "
+                 "peers run once, to GaussLOD's coarsest level L%d (%d faces; Blender at that level's "
+                 "angle %.2f deg)." % (big["name"], big["faces_in"], g, len(big["levels"]),
+                                       big["gausslod_wall"], coarse, cf, big["levels"][-1]["bound_deg"]))
+        L.append("")
+        L.append("| bar | peer time (s) | ratio | wanted | verdict |")
+        L.append("|---|---|---|---|---|")
+        r = peer_row(big["name"], "meshopt", coarse)
+        if r and r.get("seconds") is not None and not r.get("error"):
+            ratio = g / r["seconds"]
+            L.append("| GaussLOD time / meshopt_simplify time | %.3f | %.2f | <= 1.0 | %s |" % (r["seconds"], ratio, ok(ratio <= 1.0)))
+        else:
+            L.append("| GaussLOD time / meshopt_simplify time | – | – | <= 1.0 | not measured (%s) |" % (r and r.get("error")))
+        for meth in ("meshlab_quadric", "meshlab_quadric_planar"):
+            r = peer_row(big["name"], meth, coarse)
+            if r and r.get("seconds") is not None and not r.get("error"):
+                ratio = r["seconds"] / g
+                L.append("| %s time / GaussLOD time | %.2f | %.2f | >= 20 | %s |" % (LABEL[meth], r["seconds"], ratio, ok(ratio >= 20)))
+            else:
+                L.append("| %s time / GaussLOD time | – | – | >= 20 | not measured (%s) |" % (LABEL[meth], r and r.get("error")))
+        r = peer_row(big["name"], "blender_planar", coarse)
+        if r and r.get("seconds") is not None:
+            ratio = r["seconds"] / g
+            L.append("| Blender planar time / GaussLOD time | %.2f | %.2f | >= 100 | %s |" % (r["seconds"], ratio, ok(ratio >= 100)))
+        else:
+            L.append("| Blender planar time / GaussLOD time | – | – | >= 100 | not measured (%s) |" % (r and r.get("error")))
+        L.append("")
+        L.append("MeshLab times are the filter's own span in meshlabserver's unbuffered log (from `filter: %s` "
+                 "to the next filter's line) minus the same span between two `Select None` filters on the same "
+                 "mesh; loading and saving are excluded. meshopt/CGAL/Blender: in-process wall clock around the "
+                 "simplification call(s). Process wall clocks are in the raw rows (`raw.jsonl`)." % QUADRIC)
+    else:
+        L.append("Not measured: the >= 1M-face mesh was not run (`--quick` or it failed).")
+    L.append("")
+    L.append("### Scaling (GaussLOD engine time per input face, all 5 levels)")
+    if scale and small:
+        pf_big = scale["gausslod_seconds"] / scale["faces_in"]
+        pf_small = small["gausslod_seconds"] / small["faces_in"]
+        ratio = pf_big / pf_small
+        L.append("| meshes | seconds | us per face | ratio | wanted | verdict |")
+        L.append("|---|---|---|---|---|---|")
+        L.append("| %s (%d faces) / %s (%d faces) | %.3f / %.3f | %.3f / %.3f | %.2f | <= 1.5 | %s |" % (
+            scale["name"], scale["faces_in"], small["name"], small["faces_in"], scale["gausslod_seconds"],
+            small["gausslod_seconds"], pf_big * 1e6, pf_small * 1e6, ratio, ok(ratio <= 1.5)))
+        if big:
+            L.append("")
+            L.append("For reference, %s (%d faces): %.3f s, %.3f us per face." % (
+                big["name"], big["faces_in"], big["gausslod_seconds"], big["gausslod_seconds"] / big["faces_in"] * 1e6))
+    else:
+        L.append("Not measured: the 2M-face or the 100k-face mesh was not run (`--quick` or it failed).")
+    L.append("")
+
+    L.append("### Peak memory (GaussLOD tool, all 5 levels incl. writing them, vs loading the mesh alone)")
+    L.append("| model | input faces | load-only peak MB | GaussLOD peak MB | ratio | wanted | verdict |")
+    L.append("|---|---|---|---|---|---|---|")
+    for m in models.values():
+        if m.get("load_peak_mb") and m.get("gausslod_peak_mb") and m.get("levels"):
+            ratio = m["gausslod_peak_mb"] / m["load_peak_mb"]
+            mark = " (a bar mesh)" if ("speed" in m["groups"] or "scale" in m["groups"]) else ""
+            L.append("| %s%s | %s | %.1f | %.1f | %.2f | <= 3 | %s |" % (
+                m["name"], mark, m["faces_in"], m["load_peak_mb"], m["gausslod_peak_mb"], ratio, ok(ratio <= 3)))
+    L.append("")
+    L.append("Both peaks are whole-process maximum resident sets from `/usr/bin/time -v`; small meshes are "
+             "dominated by the process's fixed footprint, the bar is about the large one.")
+    L.append("")
+
+    L.append("### Exactness on the grid cube (each side a 50 x 50 grid)")
+    cube = [r for r in rows if "gridcube" in models.get(r["model"], {}).get("groups", []) and r["method"] == "gausslod"]
+    if cube:
+        good = all(not r.get("error") and r.get("faces") == 12 and r.get("hausdorff_pct", 1) <= 1e-9 for r in cube)
+        L.append("Wanted: 12 triangles and zero Hausdorff at every level (zero = below 1e-9 %% of the diagonal, "
+                 "i.e. double rounding). Measured: %s. %s" % (
+                     "; ".join("L%s %s faces, %s %%" % (r["level"], r.get("faces"), fmt(r.get("hausdorff_pct"), "%.2g")) for r in cube),
+                     ok(good)))
+    else:
+        L.append("Not measured (cube not run).")
+    L.append("")
+
+    L.append("### Quality vs Blender planar (GaussLOD level L vs Blender at L's angle sqrt(2)*90/3^L)")
+    ZERO = 1e-9  # Hausdorff below this (% of the diagonal) is double rounding: equal
+
+    def le(a, b, zero=0.0):
+        return a <= b or (a <= zero and b <= zero)
+
+    def lt(a, b, zero=0.0):
+        return a < b and not (a <= zero and b <= zero)
+
+    comp = {k: [0, 0, 0] for k in ("faces", "hausdorff", "slivers")}  # not worse, strictly better, n
+    empty = []
+    lines = []
+    for g in rows:
+        if g["method"] != "gausslod" or g.get("error"):
+            continue
+        b = peer_row(g["model"], "blender_planar", g["level"])
+        if not b:
+            continue
+        if b.get("error") or b.get("hausdorff_pct") is None:
+            empty.append("%s L%s (%s)" % (g["model"], g["level"], b.get("error")))
+            continue
+        pairs = (("faces", g["faces"], b["faces"], 0.0), ("hausdorff", g["hausdorff_pct"], b["hausdorff_pct"], ZERO),
+                 ("slivers", g["sliver_pct"], b["sliver_pct"], 0.0))
+        allok = True
+        for k, x, y, z in pairs:
+            comp[k][0] += int(le(x, y, z))
+            comp[k][1] += int(lt(x, y, z))
+            comp[k][2] += 1
+            allok = allok and le(x, y, z)
+        if not allok:
+            lines.append("%s L%d: faces %d vs %d, Hausdorff %.3g vs %.3g %%, slivers %.1f vs %.1f %%" % (
+                g["model"], g["level"], g["faces"], b["faces"], g["hausdorff_pct"], b["hausdorff_pct"],
+                g["sliver_pct"], b["sliver_pct"]))
+    n = comp["faces"][2]
+    if n:
+        allgood = all(v[0] == v[2] for v in comp.values())
+        L.append("Wanted: fewer faces, lower Hausdorff, fewer slivers. Over %d comparisons where both produced a mesh, "
+                 "GaussLOD is not worse / strictly better in: faces %d / %d, Hausdorff %d / %d, slivers %d / %d. "
+                 "%s (met = not worse in all three, every time; equal counts as not worse)." % (
+                     n, comp["faces"][0], comp["faces"][1], comp["hausdorff"][0], comp["hausdorff"][1],
+                     comp["slivers"][0], comp["slivers"][1], ok(allgood)))
+        if lines:
+            L.append("")
+            L.append("<details><summary>%d comparisons where GaussLOD is worse in at least one "
+                     "(GaussLOD vs Blender)</summary>" % len(lines))
+            L.append("")
+            for x in lines:
+                L.append("- " + x)
+            L.append("</details>")
+    else:
+        L.append("Not measured (Blender did not run).")
+    if empty:
+        L.append("")
+        L.append("Blender produced no usable mesh in %d case(s), not counted above: %s." % (len(empty), "; ".join(empty)))
+    L.append("")
+
+    L.append("### Quality vs quadric methods on CAD models (p95 normal deviation, same face count)")
+    quad = ["meshopt", "cgal_gh", "meshlab_quadric", "meshlab_quadric_planar"]
+    tally = {q: [0, 0, 0] for q in quad}  # not worse (<= 0.005 deg tolerance), strictly lower, n
+    worse = []
+    seen = set()
+    for g in rows:
+        if g["method"] != "gausslod" or g.get("error") or "cad" not in models.get(g["model"], {}).get("groups", []):
+            continue
+        key = (g["model"], g["faces"], g.get("hausdorff_pct"))
+        if key in seen:  # a level that reused the finer level's mesh: same comparison
+            continue
+        seen.add(key)
+        for q in quad:
+            p = peer_row(g["model"], q, g["level"])
+            if not p or p.get("error") or p.get("normal_p95_deg") is None:
+                continue
+            tally[q][2] += 1
+            a, b = g["normal_p95_deg"], p["normal_p95_deg"]
+            tally[q][1] += int(a < b - 0.005)
+            if a <= b + 0.005:
+                tally[q][0] += 1
+            else:
+                worse.append("%s L%d vs %s: %.2f vs %.2f deg" % (g["model"], g["level"], LABEL[q],
+                                                               g["normal_p95_deg"], p["normal_p95_deg"]))
+    if any(v[2] for v in tally.values()):
+        allgood = all(v[0] == v[2] for v in tally.values())
+        L.append("Wanted: GaussLOD's p95 normal deviation lower. Not higher / strictly lower / comparisons "
+                 "(a level that reused the finer level's mesh counted once): "
+                 + ", ".join("%s %d / %d / %d" % (LABEL[q], tally[q][0], tally[q][1], tally[q][2]) for q in quad)
+                 + ". %s (met = not higher in every comparison, 0.005 deg tolerance)." % ok(allgood))
+        if worse:
+            L.append("")
+            L.append("<details><summary>%d comparisons where GaussLOD's p95 is higher</summary>" % len(worse))
+            L.append("")
+            for x in worse:
+                L.append("- " + x)
+            L.append("</details>")
+    else:
+        L.append("Not measured.")
+    L.append("")
+
+    L.append("### Validity of GaussLOD's output (all models, all levels)")
+    gl = [r for r in rows if r["method"] == "gausslod" and not r.get("error")]
+    nm = sum(r.get("nonmanifold_edges", 0) for r in gl)
+    fl = sum(r.get("flipped", 0) for r in gl)
+    bad = ["%s L%d: %d non-manifold edges, %d flipped" % (r["model"], r["level"], r["nonmanifold_edges"], r["flipped"])
+           for r in gl if r.get("nonmanifold_edges") or r.get("flipped")]
+    L.append("Wanted: zero non-manifold edges and zero flipped faces. Measured over %d level meshes: %d non-manifold "
+             "edges, %d flipped faces. %s" % (len(gl), nm, fl, ok(nm == 0 and fl == 0)))
+    if bad:
+        L.append("")
+        for x in bad:
+            L.append("- " + x)
+    L.append("")
+    return L
+
+
+def report(bench, resdir, cmdline):
+    os.makedirs(resdir, exist_ok=True)
+    rows = bench.rows
+    with open(os.path.join(resdir, "raw.jsonl"), "w") as f:
+        for r in rows:
+            f.write(json.dumps(r) + "\n")
+    L = ["# GaussLOD vs peer simplifiers", ""]
+    L.append("Generated by `%s` on %s (run took %.1f min)." % (
+        cmdline, datetime.datetime.now().strftime("%Y-%m-%d %H:%M:%S %Z").strip(), bench.total_wall / 60.0))
+    L.append("")
+    L.append("Machine: %s. Peers: %s." % (machine_line(), versions()))
+    L.append("")
+    L.append("Distances: two-sided, %d Montecarlo samples per surface plus its vertices (at most a quarter of that), "
+             "in %% of the original's bounding-box diagonal. Columns are explained in `bench/README.md`. Every figure below was "
+             "measured in this run; a failed run is listed with its error." % bench.args.samples)
+    L.append("")
+    L.append("## Bars of the issue")
+    L.append("")
+    L += bars(bench)
+    L.append("## Results per model")
+    L.append("")
+    for name, m in bench.models.items():
+        mrows = [r for r in rows if r["model"] == name]
+        L.append("### %s" % name)
+        L.append("")
+        if m.get("error"):
+            L.append("Failed: %s" % m["error"])
+            L.append("")
+            continue
+        L.append("Input: %s faces (%s); load-only peak %s MB. GaussLOD engine total %s s for %d levels%s." % (
+            m.get("faces_in"), ", ".join(m["groups"]), fmt(m.get("load_peak_mb"), "%.1f"),
+            fmt(m.get("gausslod_seconds"), "%.3f"), len(m.get("levels", [])),
+            {"coarsest": "; peers only at the coarsest level (time budget; `--big-all-levels` runs all)",
+             "none": "; GaussLOD only (scaling bar), no peers"}.get(
+                 "all" if bench.args.big_all_levels and m.get("peers") == "coarsest" else m.get("peers", "all"), "")))
+        L.append("")
+        L.append("| method | level | target | faces | Hausdorff % | mean dist % | normal p95 ° | normal max ° | slivers % | non-manifold edges | flipped | seconds | peak MB | note |")
+        L.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+        order = {k: i for i, k in enumerate(["gausslod"] + PEERS)}
+        for r in sorted(mrows, key=lambda r: (-(r["level"] if r["level"] is not None else -1), order.get(r["method"], 9))):
+            target = r["target"] if r["target"] is not None else (
+                "%.2f°" % r["angle_deg"] if r.get("angle_deg") is not None else "–")
+            note = r.get("note") or ""
+            if r.get("error"):
+                note = (note + "; " if note else "") + "FAILED: " + r["error"]
+            ex = r.get("extra") or {}
+            if r["method"] == "gausslod" and ex.get("fallbacks"):
+                note = (note + "; " if note else "") + "%d fallbacks" % ex["fallbacks"]
+            if ex.get("skipped_input_faces"):
+                note = (note + "; " if note else "") + "CGAL skipped %d non-manifold input faces" % ex["skipped_input_faces"]
+            L.append("| %s | L%s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
+                LABEL[r["method"]], r["level"], target, fmt(r.get("faces"), "%d"),
+                fmt(r.get("hausdorff_pct"), "%.4g"), fmt(r.get("mean_pct"), "%.3g"),
+                fmt(r.get("normal_p95_deg"), "%.2f"), fmt(r.get("normal_max_deg"), "%.1f"),
+                fmt(r.get("sliver_pct"), "%.1f"), fmt(r.get("nonmanifold_edges"), "%d"),
+                fmt(r.get("flipped"), "%d"), fmt(r.get("seconds"), "%.3f"), fmt(r.get("peak_mb"), "%.0f"), note))
+        L.append("")
+        png = plot(bench, resdir, name, mrows)
+        if png:
+            L.append("![Hausdorff vs faces, %s](%s)" % (name, png))
+            L.append("")
+    with open(os.path.join(resdir, "RESULTS.md"), "w") as f:
+        f.write("\n".join(L) + "\n")
+    return os.path.join(resdir, "RESULTS.md")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--build", required=True, help="build folder of bench/ (holds the programs)")
+    ap.add_argument("--quick", action="store_true", help="small subset (%s)" % ", ".join(QUICK))
+    ap.add_argument("--models", help="comma-separated model names (default: all, or the quick set)")
+    ap.add_argument("--methods", default=",".join(PEERS), help="peers to run (default: all)")
+    ap.add_argument("--samples", type=int, help="Montecarlo samples per surface (200000; quick 50000)")
+    ap.add_argument("--timeout", type=float, default=900, help="per peer run, seconds")
+    ap.add_argument("--blender-timeout", type=float, default=1200, help="per Blender run, seconds")
+    ap.add_argument("--big-all-levels", action="store_true", help="run the peers at every level of bumpy_1m too")
+    ap.add_argument("--results", help="output folder (default bench/results, --quick: bench/results/quick)")
+    args = ap.parse_args()
+    args.methods = args.methods.split(",")
+    if args.samples is None:
+        args.samples = 50000 if args.quick else 200000
+    names = args.models.split(",") if args.models else (QUICK if args.quick else [m["name"] for m in MODELS])
+    unknown = [n for n in names if n not in {m["name"] for m in MODELS}]
+    if unknown:
+        sys.exit("unknown model(s): %s" % ", ".join(unknown))
+    models = [m for m in MODELS if m["name"] in names]
+    resdir = args.results or os.path.join(BENCH, "results", "quick" if args.quick else "")
+    resdir = os.path.normpath(resdir)
+    bench = Bench(args)
+    bench.run_all(models)
+    cmdline = os.environ.get("BENCH_CMDLINE", "bench/run_bench.py " + " ".join(sys.argv[1:]))
+    out = report(bench, resdir, cmdline)
+    log("wrote %s (%.1f min)" % (out, bench.total_wall / 60.0))
+
+
+if __name__ == "__main__":
+    main()
