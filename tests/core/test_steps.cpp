@@ -12,19 +12,14 @@ using namespace testmesh;
 
 namespace {
 
-// A plane through the origin with unit normal n, as an n x n grid over [-1,1]^2 in its own
-// basis, each vertex displaced along n by uniform noise.
-FlatMesh tiltedPlane(Vec3 n, int cells, double noise, unsigned seed)
+// A (cells x cells) grid over [-1,1]^2 whose vertex (x, y) is placed at point(px, py).
+template <class PointFn>
+FlatMesh grid(int cells, PointFn point)
 {
-	n.Normalize();
-	Vec3 u = (std::fabs(n[0]) < 0.9 ? n ^ Vec3(1, 0, 0) : n ^ Vec3(0, 1, 0)).Normalize();
-	Vec3 v = n ^ u;
-	std::mt19937 rng(seed);
-	std::uniform_real_distribution<double> d(-noise, noise);
 	FlatMesh m;
 	for (int y = 0; y <= cells; ++y)
 		for (int x = 0; x <= cells; ++x) {
-			const Vec3 p = u * (2.0 * x / cells - 1) + v * (2.0 * y / cells - 1) + n * d(rng);
+			const Vec3 p = point(2.0 * x / cells - 1, 2.0 * y / cells - 1);
 			for (int k = 0; k < 3; ++k)
 				m.positions.push_back(p[k]);
 		}
@@ -38,26 +33,22 @@ FlatMesh tiltedPlane(Vec3 n, int cells, double noise, unsigned seed)
 	return m;
 }
 
-// A roof: two planes meeting along x = 0 at a crease of `creaseDeg` (grid over [-1,1]^2).
+// A plane through the origin with unit normal n, each vertex displaced along n by uniform noise.
+FlatMesh tiltedPlane(Vec3 n, int cells, double noise, unsigned seed)
+{
+	n.Normalize();
+	const Vec3 u = (std::fabs(n[0]) < 0.9 ? n ^ Vec3(1, 0, 0) : n ^ Vec3(0, 1, 0)).Normalize();
+	const Vec3 v = n ^ u;
+	std::mt19937 rng(seed);
+	std::uniform_real_distribution<double> d(-noise, noise);
+	return grid(cells, [&](double px, double py) { return u * px + v * py + n * d(rng); });
+}
+
+// A roof: two planes meeting along x = 0 at a crease of `creaseDeg`.
 FlatMesh roof(int cells, double creaseDeg)
 {
-	FlatMesh m;
 	const double slope = std::tan(creaseDeg / 2 * M_PI / 180);
-	for (int y = 0; y <= cells; ++y)
-		for (int x = 0; x <= cells; ++x) {
-			const double px = 2.0 * x / cells - 1, py = 2.0 * y / cells - 1;
-			m.positions.push_back(px);
-			m.positions.push_back(py);
-			m.positions.push_back(-slope * std::fabs(px));
-		}
-	auto id = [&](int x, int y) { return int32_t(y * (cells + 1) + x); };
-	for (int y = 0; y < cells; ++y)
-		for (int x = 0; x < cells; ++x) {
-			const int32_t t[6] = {id(x, y), id(x + 1, y), id(x + 1, y + 1),
-			                      id(x, y), id(x + 1, y + 1), id(x, y + 1)};
-			m.triangles.insert(m.triangles.end(), t, t + 6);
-		}
-	return m;
+	return grid(cells, [&](double px, double py) { return Vec3(px, py, -slope * std::fabs(px)); });
 }
 
 // The roof with its ridge vertices moved up and down by 1e-3 alternately.
