@@ -11,6 +11,16 @@ root="$(dirname "$here")"
 build="${BENCH_BUILD:-$root/build-bench-peers}"
 jobs="${BENCH_JOBS:-2}"
 
+# the peers and tools from Debian, installed when missing (as root; apt-get update first)
+bash "$root/cmake/setup.sh"
+want=(libmeshoptimizer-dev time gnuplot-nox blender)
+need=()
+for p in "${want[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || need+=("$p")
+done
+if [ ${#need[@]} -gt 0 ] && [ "$(id -u)" = 0 ]; then
+  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${need[@]}" >/dev/null
+fi
 missing=()
 for tool in cmake g++ python3 /usr/bin/time gnuplot; do
   command -v "$tool" >/dev/null 2>&1 || missing+=("$tool")
