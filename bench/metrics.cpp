@@ -28,7 +28,6 @@
 #include "bench_mesh.h"
 
 #include <vcg/complex/algorithms/clean.h>
-#include <vcg/complex/algorithms/closest.h>
 #include <vcg/complex/algorithms/point_sampling.h>
 #include <vcg/complex/algorithms/update/bounding.h>
 #include <vcg/complex/algorithms/update/normal.h>
