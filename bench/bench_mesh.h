@@ -1,6 +1,8 @@
 // Mesh types and small helpers shared by the bench programs (VCG, header-only).
 #pragma once
 
+#include "gausslod/io_mesh.h"
+
 #include <vcg/complex/complex.h>
 #include <wrap/io_trimesh/export_ply.h>
 #include <wrap/io_trimesh/import.h>
@@ -15,14 +17,7 @@ namespace bench {
 
 // Single precision, like the gausslod tool's mesh (tools/gausslod_cli.cpp): used for loading,
 // converting and writing.
-class FVertex;
-class FFace;
-struct FUsedTypes : public vcg::UsedTypes<vcg::Use<FVertex>::AsVertexType, vcg::Use<FFace>::AsFaceType> {};
-class FVertex : public vcg::Vertex<FUsedTypes, vcg::vertex::Coord3f, vcg::vertex::Normal3f,
-                                   vcg::vertex::Color4b, vcg::vertex::BitFlags> {};
-class FFace : public vcg::Face<FUsedTypes, vcg::face::VertexRef, vcg::face::Normal3f,
-                               vcg::face::Color4b, vcg::face::BitFlags> {};
-class FMesh : public vcg::tri::TriMesh<std::vector<FVertex>, std::vector<FFace>> {};
+using FMesh = gausslod::IoMesh;
 
 inline double now()
 {

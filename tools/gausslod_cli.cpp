@@ -2,6 +2,7 @@
 //   gausslod [options] INPUT(.ply|.obj|.off|.stl) OUTDIR
 // Writes OUTDIR/<name>_LOD<i>.ply per level and prints a per-level table (or JSON lines).
 #include "gausslod/gausslod.h"
+#include "gausslod/io_mesh.h"
 #include "gausslod/vcg_adapter.h"
 
 #include <vcg/complex/complex.h>
@@ -16,14 +17,7 @@
 
 namespace {
 
-class CVertex;
-class CFace;
-struct CUsedTypes : public vcg::UsedTypes<vcg::Use<CVertex>::AsVertexType, vcg::Use<CFace>::AsFaceType> {};
-class CVertex : public vcg::Vertex<CUsedTypes, vcg::vertex::Coord3f, vcg::vertex::Normal3f,
-                                   vcg::vertex::Color4b, vcg::vertex::BitFlags> {};
-class CFace : public vcg::Face<CUsedTypes, vcg::face::VertexRef, vcg::face::Normal3f,
-                               vcg::face::Color4b, vcg::face::BitFlags> {};
-class CMesh : public vcg::tri::TriMesh<std::vector<CVertex>, std::vector<CFace>> {};
+using CMesh = gausslod::IoMesh;
 
 void usage()
 {

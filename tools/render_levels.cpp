@@ -2,6 +2,8 @@
 //   render_levels OUT.ppm WIDTH YAW_DEG PITCH_DEG MESH.ply [MESH.ply ...]
 // Renders each mesh side by side (flat shading, per-face colour when present, dark superface
 // borders), from the same camera framing the first mesh. Convert with imagemagick for PNG.
+#include "gausslod/io_mesh.h"
+
 #include <vcg/complex/complex.h>
 #include <wrap/io_trimesh/import.h>
 
@@ -11,15 +13,7 @@
 #include <string>
 #include <vector>
 
-namespace {
-class RVertex;
-class RFace;
-struct RUsedTypes : public vcg::UsedTypes<vcg::Use<RVertex>::AsVertexType, vcg::Use<RFace>::AsFaceType> {};
-class RVertex : public vcg::Vertex<RUsedTypes, vcg::vertex::Coord3f, vcg::vertex::BitFlags> {};
-class RFace : public vcg::Face<RUsedTypes, vcg::face::VertexRef, vcg::face::Normal3f,
-                               vcg::face::Color4b, vcg::face::BitFlags> {};
-class RMesh : public vcg::tri::TriMesh<std::vector<RVertex>, std::vector<RFace>> {};
-} // namespace
+using RMesh = gausslod::IoMesh;
 
 int main(int argc, char **argv)
 {
@@ -55,7 +49,7 @@ int main(int argc, char **argv)
 			return vcg::Point3f((x / radius * 0.95f + 1) * W / 2, (1 - y / radius * 0.95f) * H / 2, z2);
 		};
 		std::vector<float> zbuf(size_t(W) * H, -1e30f);
-		for (const RFace &f : mesh.face) {
+		for (const gausslod::IoFace &f : mesh.face) {
 			const vcg::Point3f a = view(f.cP(0)), b = view(f.cP(1)), c = view(f.cP(2));
 			vcg::Point3f nrm = (b - a) ^ (c - a);
 			if (nrm.Norm() == 0)

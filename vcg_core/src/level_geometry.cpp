@@ -699,7 +699,7 @@ private:
 	// fails gets its vertices locked (it is then kept as it is).
 	void applyFallbacks()
 	{
-		groupFaces(); // (already current; cheap) superface -> faces
+		// sfStart_/sfFace_ are those of the round that just failed: labels have not changed yet
 		std::vector<uint8_t> split(p_.count(), 0);
 		for (const auto &sf : failed_) {
 			const int32_t s = sf.first;
@@ -728,7 +728,6 @@ private:
 		// split: the faces of a split superface take the superface of their finer partition
 		const int finest = int(finer_.size()) - 1;
 		const size_t base = p_.count();
-		std::vector<int32_t> newLabel;
 		std::vector<int32_t> childMap; // finer label -> new label (per origin level)
 		std::vector<int32_t> touched;
 		for (size_t s = 0; s < base; ++s) {
