@@ -79,7 +79,7 @@ public:
 		for (;; ++round) {
 			if (round == kMaxRounds) // give up simplifying: every vertex kept is always valid
 				std::fill(extraLock_.begin(), extraLock_.end(), uint8_t(1));
-			buildOnce();
+			buildOnce(round > 0 && round < kMaxRounds);
 			if (failed_.empty() || round >= kMaxRounds)
 				break;
 			fallbacks += failed_.size();
@@ -101,8 +101,10 @@ private:
 	// per round
 	std::vector<int32_t> sfStart_, sfFace_;   // superface -> faces (CSR)
 	std::vector<uint8_t> border_;             // per half-edge
-	std::vector<int32_t> degree_;             // border edges per vertex
-	std::vector<uint8_t> junction_, keep_, extraLock_;
+	std::vector<int32_t> degree_, oldDegree_; // border edges per vertex (this, previous round)
+	std::vector<uint8_t> junction_, oldJunction_, keep_, extraLock_;
+	std::vector<uint8_t> changed_;            // patch round: degree or junction status changed
+	std::vector<uint8_t> dirty_;              // per superface: rebuilt this round
 	std::vector<int32_t> ringHE_, ringStart_, sfRingStart_;
 	std::vector<uint8_t> visited_, processed_;
 	std::vector<Piece> pieces_;
@@ -131,8 +133,15 @@ private:
 			sfFace_[size_t(fill[size_t(p_.label[f])]++)] = int32_t(f);
 	}
 
-	void findBorders()
+	// Border half-edges, border degree and junctions. In a patch round (see buildOnce) the kept
+	// vertices of the previous round stay; vertices whose degree or junction status changed are
+	// marked in changed_.
+	void findBorders(bool patch)
 	{
+		if (patch) {
+			oldDegree_.swap(degree_);
+			oldJunction_.swap(junction_);
+		}
 		border_.assign(3 * t_.nF, 0);
 		degree_.assign(t_.nV, 0);
 		for (size_t h = 0; h < 3 * t_.nF; ++h) {
@@ -149,7 +158,16 @@ private:
 		for (size_t v = 0; v < t_.nV; ++v)
 			junction_[v] = degree_[v] > 0 &&
 			               (degree_[v] != 2 || t_.vertexLocked[v] || extraLock_[v]);
-		keep_ = junction_;
+		if (!patch) {
+			keep_ = junction_;
+			return;
+		}
+		changed_.assign(t_.nV, 0);
+		for (size_t v = 0; v < t_.nV; ++v)
+			if (degree_[v] != oldDegree_[v] || junction_[v] != oldJunction_[v]) {
+				changed_[v] = 1;
+				keep_[v] = junction_[v]; // non-junctions: their piece is recomputed below
+			}
 	}
 
 	// Rings of superface s: from a border half-edge, the next one starts at its end vertex and is
@@ -182,7 +200,9 @@ private:
 	}
 
 	// -------------------------------------------------------------- 2.3 chains and their pieces
-	void collectPieces()
+	// In a patch round only the pieces with a changed vertex are collected (the others are the
+	// same chains as in the previous round and keep their kept vertices).
+	void collectPieces(bool patch)
 	{
 		pieces_.clear();
 		processed_.assign(3 * t_.nF, 0);
@@ -196,6 +216,13 @@ private:
 			auto claim = [&](int32_t start, int32_t len) {
 				if (processed_[size_t(H[start % m])])
 					return false;
+				if (patch) {
+					bool touched = false;
+					for (int32_t i = 0; i <= len && !touched; ++i)
+						touched = changed_[size_t(t_.heFrom(H[(start + i) % m]))] != 0;
+					if (!touched)
+						return false;
+				}
 				for (int32_t i = 0; i < len; ++i) {
 					const int32_t h = H[(start + i) % m];
 					processed_[size_t(h)] = 1;
@@ -228,6 +255,14 @@ private:
 		for (Piece &pc : pieces_)
 			if (!pc.loop && pc.a == pc.b) // a closed chain would straighten onto a point
 				pc.minInterior = 2;
+	}
+
+	// Patch round: a recomputed piece starts from its end vertices only.
+	void resetInterior(const Piece &pc)
+	{
+		const int32_t b = ringStart_[size_t(pc.ring)], m = ringStart_[size_t(pc.ring) + 1] - b;
+		for (int32_t i = pc.loop ? 0 : 1; i < pc.len; ++i)
+			keep_[size_t(t_.heFrom(ringHE_[size_t(b + (pc.start + i) % m)]))] = 0;
 	}
 
 	// Two chains with the same end vertices must not both straighten onto the same segment: all
@@ -577,14 +612,30 @@ private:
 	}
 
 	// ---------------------------------------------------------------------------- one round
-	void buildOnce()
+	// A full round rebuilds every superface. A patch round (after fallbacks) rebuilds only the
+	// superfaces whose faces changed, that failed, or that touch a vertex whose border degree or
+	// junction status changed; every other superface has the same rings and kept vertices as in
+	// the previous round (borders only get added by fallbacks), so its triangles are copied.
+	void buildOnce(bool patch)
 	{
 		failed_.clear();
 		tris_.clear(), triSf_.clear(), triBorder_.clear(), triNew_.clear();
 		retriangulated_ = 0;
 		faceDev_.assign(t_.nF, -1.0);
 		groupFaces();
-		findBorders();
+		findBorders(patch);
+		dirty_.assign(p_.count(), patch ? 0 : 1);
+		if (patch)
+			for (size_t s = 0; s < p_.count(); ++s) {
+				const int32_t fb = sfStart_[s], fe = sfStart_[s + 1];
+				const int32_t f0 = sfFace_[size_t(fb)];
+				const Cached &c = prevCache_[size_t(prevLabel_[size_t(f0)])];
+				bool d = !c.ok || c.firstFace != f0 || c.faceCount != fe - fb;
+				for (int32_t i = fb; i < fe && !d; ++i)
+					for (int k = 0; k < 3; ++k)
+						d = d || changed_[size_t(t_.T[3 * sfFace_[size_t(i)] + k])];
+				dirty_[s] = d;
+			}
 		ringHE_.clear();
 		ringStart_.clear();
 		sfRingStart_.assign(p_.count() + 1, 0);
@@ -592,6 +643,8 @@ private:
 		std::vector<uint8_t> broken(p_.count(), 0);
 		for (size_t s = 0; s < p_.count(); ++s) {
 			sfRingStart_[s] = int32_t(ringStart_.size());
+			if (!dirty_[s])
+				continue;
 			const size_t ringsBefore = ringStart_.size(), heBefore = ringHE_.size();
 			if (!traceRings(int32_t(s))) {
 				ringStart_.resize(ringsBefore), ringHE_.resize(heBefore);
@@ -600,9 +653,14 @@ private:
 		}
 		sfRingStart_[p_.count()] = int32_t(ringStart_.size());
 		ringStart_.push_back(int32_t(ringHE_.size()));
-		collectPieces();
-		for (Piece &pc : pieces_)
+		collectPieces(patch);
+		for (Piece &pc : pieces_) {
+			if (patch)
+				resetInterior(pc);
 			simplifyPiece(pc);
+		}
+		// (a patch round separates the recomputed pieces among themselves; one that straightens
+		// onto an unchanged chain is caught by checkEdges and falls back)
 		separateParallelChains();
 		out_.stats.secondsBorders += clock_.lap();
 		std::vector<Cached> cache(p_.count());
@@ -611,8 +669,20 @@ private:
 		for (size_t s = 0; s < p_.count(); ++s) {
 			const size_t before = tris_.size() / 3;
 			const size_t retriBefore = retriangulated_;
-			keptOutline(int32_t(s), outline);
 			Cached &c = cache[s];
+			if (!dirty_[s]) { // unchanged since the previous round
+				const Cached &pc = prevCache_[size_t(prevLabel_[size_t(sfFace_[size_t(sfStart_[s])])])];
+				c = pc;
+				c.outlineBegin = int32_t(cachedOutlines_.size());
+				cachedOutlines_.insert(cachedOutlines_.end(), prevOutlines_.begin() + pc.outlineBegin,
+				                       prevOutlines_.begin() + pc.outlineEnd);
+				c.outlineEnd = int32_t(cachedOutlines_.size());
+				copyPrevious(int32_t(s), pc);
+				c.triBegin = int32_t(before);
+				c.triEnd = int32_t(tris_.size() / 3);
+				continue;
+			}
+			keptOutline(int32_t(s), outline);
 			c.firstFace = sfFace_[size_t(sfStart_[s])];
 			c.faceCount = sfStart_[s + 1] - sfStart_[s];
 			c.outlineBegin = int32_t(cachedOutlines_.size());
@@ -683,6 +753,12 @@ private:
 		    c.outlineEnd - c.outlineBegin != int32_t(outline.size()) ||
 		    !std::equal(outline.begin(), outline.end(), prevOutlines_.begin() + c.outlineBegin))
 			return false;
+		copyPrevious(s, c);
+		return true;
+	}
+
+	void copyPrevious(int32_t s, const Cached &c)
+	{
 		for (int32_t k = c.triBegin; k < c.triEnd; ++k)
 			emit(prevTris_[3 * size_t(k)], prevTris_[3 * size_t(k) + 1], prevTris_[3 * size_t(k) + 2],
 			     s, prevTriBorder_[size_t(k)], prevTriNew_[size_t(k)]);
@@ -691,7 +767,6 @@ private:
 			faceDev_[size_t(f)] = prevFaceDev_[size_t(f)];
 		}
 		retriangulated_ += c.retriangulated;
-		return true;
 	}
 
 	// A failed superface first has its border locked (no straightening, no merging); if it still
