@@ -7,6 +7,7 @@
 
 #include <vcg/space/point3.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -19,43 +20,34 @@ inline int32_t heFace(int32_t h) { return h / 3; }
 inline int32_t heNext(int32_t h) { return h - h % 3 + (h % 3 + 1) % 3; }
 inline int32_t hePrev(int32_t h) { return h - h % 3 + (h % 3 + 2) % 3; }
 
-/// Stable LSD radix sort of (key, value) pairs by key, using only the low `keyBits` bits of the
-/// keys (linear time; std::sort degrades on the periodic keys that regular grids give).
-template <class V>
-void radixSortByKey(std::vector<std::pair<uint64_t, V>> &items, int keyBits)
+/// Groups n items by a key below nKeys (stable counting sort, linear time): afterwards the
+/// items with key k are order[start[k] .. start[k+1]), in their original order. `key(i)` gives
+/// item i's key; each bucket is then sorted by `less` (stable; buckets are small in practice).
+template <class KeyFn, class Less>
+void bucketSort(size_t n, size_t nKeys, KeyFn key, Less less, std::vector<int32_t> &start,
+                std::vector<int32_t> &order)
 {
-	constexpr int kDigit = 11;
-	std::vector<std::pair<uint64_t, V>> tmp(items.size());
-	std::vector<size_t> count(size_t(1) << kDigit);
-	for (int shift = 0; shift < keyBits; shift += kDigit) {
-		std::fill(count.begin(), count.end(), 0);
-		for (const auto &it : items)
-			++count[(it.first >> shift) & ((1u << kDigit) - 1)];
-		size_t sum = 0;
-		for (size_t &c : count) {
-			const size_t n = c;
-			c = sum;
-			sum += n;
-		}
-		for (const auto &it : items)
-			tmp[count[(it.first >> shift) & ((1u << kDigit) - 1)]++] = it;
-		items.swap(tmp);
+	start.assign(nKeys + 1, 0);
+	for (size_t i = 0; i < n; ++i)
+		++start[size_t(key(i)) + 1];
+	for (size_t k = 0; k < nKeys; ++k)
+		start[k + 1] += start[k];
+	order.resize(n);
+	{
+		std::vector<int32_t> fill(start.begin(), start.end() - 1);
+		for (size_t i = 0; i < n; ++i)
+			order[size_t(fill[size_t(key(i))]++)] = int32_t(i);
 	}
-}
-
-/// Bits needed for an index below n.
-inline int bitsFor(size_t n)
-{
-	int b = 1;
-	while ((size_t(1) << b) < n)
-		++b;
-	return b;
-}
-
-/// An undirected edge as a sortable key: (min << 32) | max.
-inline uint64_t edgeKey(int32_t a, int32_t b)
-{
-	return (uint64_t(uint32_t(a < b ? a : b)) << 32) | uint32_t(a < b ? b : a);
+	for (size_t k = 0; k < nKeys; ++k) {
+		int32_t *b = order.data() + start[k], *e = order.data() + start[k + 1];
+		if (e - b <= 16) { // insertion sort
+			for (int32_t *i = b + 1; i < e; ++i)
+				for (int32_t *j = i; j > b && less(*j, *(j - 1)); --j)
+					std::swap(*j, *(j - 1));
+		} else {
+			std::stable_sort(b, e, less);
+		}
+	}
 }
 
 enum VertexClass : uint8_t { kFlat = 0, kEdge = 1, kCorner = 2 }; // = importance (2.3.2)

@@ -15,27 +15,32 @@ namespace {
 void superfaceAdjacency(const Topology &t, const Partition &p, std::vector<int32_t> &start,
                         std::vector<int32_t> &adj)
 {
-	std::vector<std::pair<uint64_t, uint8_t>> pairs;
+	std::vector<std::pair<int32_t, int32_t>> pairs; // both directions of every adjacency
 	for (size_t h = 0; h < t.twin.size(); ++h) {
 		const int32_t tw = t.twin[h];
 		if (tw < int32_t(h))
 			continue; // boundary (-1) or seen from the other side
 		const int32_t a = p.label[h / 3], b = p.label[size_t(heFace(tw))];
 		if (a != b) {
-			pairs.emplace_back((uint64_t(uint32_t(a)) << 32) | uint32_t(b), 0);
-			pairs.emplace_back((uint64_t(uint32_t(b)) << 32) | uint32_t(a), 0);
+			pairs.emplace_back(a, b);
+			pairs.emplace_back(b, a);
 		}
 	}
-	radixSortByKey(pairs, 32 + bitsFor(p.count()));
-	pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+	std::vector<int32_t> bucket, order;
+	bucketSort(
+	    pairs.size(), p.count(), [&](size_t i) { return pairs[i].first; },
+	    [&](int32_t i, int32_t j) { return pairs[size_t(i)].second < pairs[size_t(j)].second; },
+	    bucket, order);
 	start.assign(p.count() + 1, 0);
-	adj.resize(pairs.size());
-	for (size_t i = 0; i < pairs.size(); ++i) {
-		++start[size_t(pairs[i].first >> 32) + 1];
-		adj[i] = int32_t(uint32_t(pairs[i].first));
+	adj.clear();
+	for (size_t s = 0; s < p.count(); ++s) {
+		for (int32_t i = bucket[s]; i < bucket[s + 1]; ++i) {
+			const int32_t w = pairs[size_t(order[size_t(i)])].second;
+			if (i == bucket[s] || w != adj.back())
+				adj.push_back(w); // sorted: duplicates are consecutive
+		}
+		start[s + 1] = int32_t(adj.size());
 	}
-	for (size_t s = 0; s < p.count(); ++s)
-		start[s + 1] += start[s];
 }
 
 } // namespace

@@ -269,30 +269,38 @@ private:
 	// but one of them get back their farthest interior vertex.
 	void separateParallelChains()
 	{
-		std::vector<std::pair<uint64_t, int32_t>> keys;
+		std::vector<int32_t> straight; // pieces that may collapse onto the segment of their ends
 		for (size_t i = 0; i < pieces_.size(); ++i) {
 			const Piece &pc = pieces_[i];
 			if (!pc.loop && pc.a != pc.b && pc.kept == 0)
-				keys.emplace_back(edgeKey(pc.a, pc.b), int32_t(i));
+				straight.push_back(int32_t(i));
 		}
-		radixSortByKey(keys, 32 + bitsFor(t_.nV));
-		for (size_t i = 0; i < keys.size();) {
-			size_t j = i + 1;
-			while (j < keys.size() && keys[j].first == keys[i].first)
-				++j;
-			// the piece left straight: a single edge if there is one (it cannot keep a vertex)
-			size_t straight = i;
-			for (size_t q = i; q < j; ++q)
-				if (pieces_[size_t(keys[q].second)].len == 1)
-					straight = q;
-			for (size_t q = i; q < j; ++q)
-				if (q != straight) {
-					Piece &pc = pieces_[size_t(keys[q].second)];
-					loadSequence(pc);
-					pc.minInterior = 1;
-					ensureInterior(pc);
+		auto lo = [&](size_t i) { const Piece &pc = pieces_[size_t(straight[i])]; return std::min(pc.a, pc.b); };
+		auto hi = [&](int32_t i) { const Piece &pc = pieces_[size_t(straight[size_t(i)])]; return std::max(pc.a, pc.b); };
+		std::vector<int32_t> start, order;
+		bucketSort(straight.size(), t_.nV, lo, [&](int32_t i, int32_t j) { return hi(i) < hi(j); },
+		           start, order);
+		for (size_t v = 0; v < t_.nV; ++v) {
+			for (int32_t i = start[v]; i < start[v + 1];) {
+				int32_t j = i + 1;
+				while (j < start[v + 1] && hi(order[size_t(j)]) == hi(order[size_t(i)]))
+					++j;
+				if (j - i >= 2) {
+					// the piece left straight: a single edge if there is one (it cannot keep a vertex)
+					int32_t keepStraight = i;
+					for (int32_t q = i; q < j; ++q)
+						if (pieces_[size_t(straight[size_t(order[size_t(q)])])].len == 1)
+							keepStraight = q;
+					for (int32_t q = i; q < j; ++q)
+						if (q != keepStraight) {
+							Piece &pc = pieces_[size_t(straight[size_t(order[size_t(q)])])];
+							loadSequence(pc);
+							pc.minInterior = 1;
+							ensureInterior(pc);
+						}
 				}
-			i = j;
+				i = j;
+			}
 		}
 	}
 
@@ -566,45 +574,51 @@ private:
 	// input had it right, comes from a re-triangulated superface: fail those superfaces.
 	void checkEdges()
 	{
-		std::vector<std::pair<uint64_t, int32_t>> e; // (edge key, 2*tri + reversed)
-		e.reserve(tris_.size());
-		for (size_t k = 0; k < tris_.size(); ++k) {
-			const int32_t a = tris_[k], b = tris_[k - k % 3 + (k % 3 + 1) % 3];
-			e.emplace_back(edgeKey(a, b), int32_t(2 * (k / 3) + (a > b)));
-		}
-		radixSortByKey(e, 32 + bitsFor(t_.nV));
+		// triangle corners k (edge k -> k+1) grouped by the edge's smaller vertex, then larger
+		const size_t nc = tris_.size();
+		auto other = [&](size_t k) { return tris_[k - k % 3 + (k % 3 + 1) % 3]; };
+		auto lo = [&](size_t k) { return std::min(tris_[k], other(k)); };
+		auto hi = [&](int32_t k) { return std::max(tris_[size_t(k)], other(size_t(k))); };
+		std::vector<int32_t> start, order;
+		bucketSort(nc, t_.nV, lo, [&](int32_t i, int32_t j) { return hi(i) < hi(j); }, start, order);
 		std::vector<uint8_t> bad(p_.count(), 0);
-		for (size_t i = 0; i < e.size();) {
-			size_t j = i + 1;
-			while (j < e.size() && e[j].first == e[i].first)
-				++j;
-			const size_t cnt = j - i;
-			bool anyNew = false;
-			for (size_t q = i; q < j; ++q)
-				anyNew = anyNew || triNew_[size_t(e[q].second / 2)];
-			if (anyNew && cnt >= 2) {
-				const bool sameDir = cnt == 2 && (e[i].second & 1) == (e[i + 1].second & 1);
-				if (cnt > 2 || sameDir) {
-					int inputCnt = 0, inputFwd = 0;
-					const int32_t a = int32_t(e[i].first >> 32), b = int32_t(uint32_t(e[i].first));
-					for (int32_t q = t_.vfStart[size_t(a)]; q < t_.vfStart[size_t(a) + 1]; ++q)
-						for (int k = 0; k < 3; ++k) {
-							const int32_t h = 3 * t_.vfFace[size_t(q)] + k;
-							if (t_.heFrom(h) == a && t_.heTo(h) == b)
-								++inputCnt, ++inputFwd;
-							else if (t_.heFrom(h) == b && t_.heTo(h) == a)
-								++inputCnt;
-						}
-					const bool inputSameDir = inputCnt == 2 && (inputFwd == 0 || inputFwd == 2);
-					if ((cnt > 2 && int(cnt) > inputCnt) || (sameDir && !inputSameDir))
-						for (size_t q = i; q < j; ++q) {
-							const int32_t tri = e[q].second / 2;
-							if (triNew_[size_t(tri)])
-								bad[size_t(triSf_[size_t(tri)])] = 1;
-						}
+		for (size_t v = 0; v < t_.nV; ++v) {
+			for (int32_t i = start[v]; i < start[v + 1];) {
+				int32_t j = i + 1;
+				while (j < start[v + 1] && hi(order[size_t(j)]) == hi(order[size_t(i)]))
+					++j;
+				const size_t cnt = size_t(j - i);
+				bool anyNew = false;
+				for (int32_t q = i; q < j; ++q)
+					anyNew = anyNew || triNew_[size_t(order[size_t(q)]) / 3];
+				auto reversed = [&](int32_t q) {
+					const size_t k = size_t(order[size_t(q)]);
+					return tris_[k] > other(k);
+				};
+				if (anyNew && cnt >= 2) {
+					const bool sameDir = cnt == 2 && reversed(i) == reversed(i + 1);
+					if (cnt > 2 || sameDir) {
+						int inputCnt = 0, inputFwd = 0;
+						const int32_t a = int32_t(v), b = hi(order[size_t(i)]);
+						for (int32_t q = t_.vfStart[size_t(a)]; q < t_.vfStart[size_t(a) + 1]; ++q)
+							for (int k = 0; k < 3; ++k) {
+								const int32_t h = 3 * t_.vfFace[size_t(q)] + k;
+								if (t_.heFrom(h) == a && t_.heTo(h) == b)
+									++inputCnt, ++inputFwd;
+								else if (t_.heFrom(h) == b && t_.heTo(h) == a)
+									++inputCnt;
+							}
+						const bool inputSameDir = inputCnt == 2 && (inputFwd == 0 || inputFwd == 2);
+						if ((cnt > 2 && int(cnt) > inputCnt) || (sameDir && !inputSameDir))
+							for (int32_t q = i; q < j; ++q) {
+								const size_t tri = size_t(order[size_t(q)]) / 3;
+								if (triNew_[tri])
+									bad[size_t(triSf_[tri])] = 1;
+							}
+					}
 				}
+				i = j;
 			}
-			i = j;
 		}
 		for (size_t s = 0; s < bad.size(); ++s)
 			if (bad[s])
