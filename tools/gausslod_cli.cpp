@@ -97,41 +97,48 @@ int main(int argc, char **argv)
 		std::fprintf(stderr, "gausslod: cannot open %s: no such file\n", input.c_str());
 		return 1;
 	}
-	CMesh mesh;
-	int mask = 0;
-	const int err = vcg::tri::io::Importer<CMesh>::Open(mesh, input.c_str(), mask);
-	if (err != 0 && vcg::tri::io::Importer<CMesh>::ErrorCritical(err)) {
-		std::fprintf(stderr, "gausslod: cannot read %s: %s\n", input.c_str(),
-		             vcg::tri::io::Importer<CMesh>::ErrorMsg(err));
-		return 1;
+	gausslod::FlatMesh flat;
+	{ // the VCG mesh is freed once flattened (the engine works on the flat arrays)
+		CMesh mesh;
+		int mask = 0;
+		const int err = vcg::tri::io::Importer<CMesh>::Open(mesh, input.c_str(), mask);
+		if (err != 0 && vcg::tri::io::Importer<CMesh>::ErrorCritical(err)) {
+			std::fprintf(stderr, "gausslod: cannot read %s: %s\n", input.c_str(),
+			             vcg::tri::io::Importer<CMesh>::ErrorMsg(err));
+			return 1;
+		}
+		flat = gausslod::flatten(mesh);
 	}
-	const gausslod::FlatMesh flat = gausslod::flatten(mesh);
 	const double diag = gausslod::bboxDiagonal(flat.view());
 	params.straightenTolerance = straightenPct / 100.0 * diag;
 	params.mergeDistance = mergePct / 100.0 * diag;
-	const gausslod::Result res = gausslod::buildLevels(flat.view(), params);
-	if (!res.ok) {
-		std::fprintf(stderr, "gausslod: %s: %s\n", input.c_str(), res.error.c_str());
-		return 1;
-	}
-	mkdir(outdir.c_str(), 0777);
 	std::string name = input.substr(input.find_last_of('/') + 1);
 	name = name.substr(0, name.find_last_of('.'));
-	if (!json)
-		std::printf("%-6s %9s %9s %10s %9s %9s %9s %9s %8s\n", "level", "faces", "vertices",
-		            "superfaces", "fallback", "bound", "maxdev", "meandev", "seconds");
-	if (!json)
-		std::printf("%-6s %9zu %9zu %10s %9s %9s %9s %9s %8s\n", "input", flat.triangles.size() / 3,
-		            flat.positions.size() / 3, "-", "-", "-", "-", "-", "-");
-	for (const gausslod::LevelMesh &lm : res.levels) {
+	std::string writeError;
+	bool first = true;
+	// each level is written as soon as it is built, then dropped (one level in memory at a time)
+	auto sink = [&](const gausslod::LevelMesh &lm) {
+		if (first) {
+			first = false;
+			mkdir(outdir.c_str(), 0777);
+			if (!json) {
+				std::printf("%-6s %9s %9s %10s %9s %9s %9s %9s %8s\n", "level", "faces", "vertices",
+				            "superfaces", "fallback", "bound", "maxdev", "meandev", "seconds");
+				std::printf("%-6s %9zu %9zu %10s %9s %9s %9s %9s %8s\n", "input",
+				            flat.triangles.size() / 3, flat.positions.size() / 3, "-", "-", "-", "-",
+				            "-", "-");
+			}
+		}
 		const gausslod::LevelStats &s = lm.stats;
-		CMesh out;
-		gausslod::toVcgMesh(lm, out, colour, false);
 		const std::string file = outdir + "/" + name + "_LOD" + std::to_string(s.level) + ".ply";
-		const int m = colour ? vcg::tri::io::Mask::IOM_FACECOLOR : 0;
-		if (vcg::tri::io::ExporterPLY<CMesh>::Save(out, file.c_str(), m, true) != 0) {
-			std::fprintf(stderr, "gausslod: cannot write %s\n", file.c_str());
-			return 1;
+		{
+			CMesh out;
+			gausslod::toVcgMesh(lm, out, colour, false);
+			const int m = colour ? vcg::tri::io::Mask::IOM_FACECOLOR : 0;
+			if (vcg::tri::io::ExporterPLY<CMesh>::Save(out, file.c_str(), m, true) != 0) {
+				writeError = "cannot write " + file;
+				return false;
+			}
 		}
 		if (json)
 			std::printf("{\"level\":%d,\"faces\":%zu,\"vertices\":%zu,\"superfaces\":%zu,"
@@ -148,6 +155,16 @@ int main(int argc, char **argv)
 			std::printf("LOD%-3d %9zu %9zu %10zu %9zu %9.2f %9.2f %9.3f %8.3f\n", s.level, s.faces,
 			            s.vertices, s.superfaces, s.fallbacks, s.boundDeg, s.maxNormalDevDeg,
 			            s.meanNormalDevDeg, s.seconds);
+		std::fflush(stdout);
+		return true;
+	};
+	const gausslod::Result res = gausslod::buildLevels(flat.view(), params, {}, sink);
+	if (!res.ok) {
+		if (writeError.empty())
+			std::fprintf(stderr, "gausslod: %s: %s\n", input.c_str(), res.error.c_str());
+		else
+			std::fprintf(stderr, "gausslod: %s\n", writeError.c_str());
+		return 1;
 	}
 	if (!json)
 		std::printf("total %.3f s; files in %s\n", res.totalSeconds, outdir.c_str());

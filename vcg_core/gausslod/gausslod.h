@@ -110,8 +110,14 @@ struct Result {
 /// Result::ok == false, error == "cancelled").
 using Progress = std::function<bool(double fraction, const char *stage)>;
 
+/// Receives each requested level as soon as it is built (finest first). Return false to cancel.
+using LevelSink = std::function<bool(const LevelMesh &level)>;
+
 /// Builds the levels of detail. Deterministic: the same input and parameters give the same output.
-Result buildLevels(const MeshView &mesh, const Params &params, const Progress &progress = {});
+/// With a sink, each level is handed to it and then dropped: Result::levels keeps only the
+/// levels' stats (empty geometry), so that peak memory holds one level instead of all of them.
+Result buildLevels(const MeshView &mesh, const Params &params, const Progress &progress = {},
+                   const LevelSink &sink = {});
 
 /// The paper's bound on the normal deviation inside one Gauss-sphere cell of level i, in degrees.
 double levelBoundDeg(int level);

@@ -67,7 +67,8 @@ double since(std::chrono::steady_clock::time_point t0)
 
 } // namespace
 
-Result buildLevels(const MeshView &mesh, const Params &params, const Progress &progress)
+Result buildLevels(const MeshView &mesh, const Params &params, const Progress &progress,
+                   const LevelSink &sink)
 {
 	using namespace detail;
 	Result res;
@@ -92,6 +93,7 @@ Result buildLevels(const MeshView &mesh, const Params &params, const Progress &p
 		std::vector<Partition> parts(size_t(params.maxLevel));
 		finestPartition(topo, finest, parts[size_t(finest)]);
 		const double setup = since(t0);
+		res.levels.reserve(size_t(params.maxLevel));
 		LevelMesh finer; // the previous (finer) level
 		for (int level = finest; level >= 0; --level) {
 			const auto tl = std::chrono::steady_clock::now();
@@ -122,9 +124,19 @@ Result buildLevels(const MeshView &mesh, const Params &params, const Progress &p
 				lm.stats.reusedFiner = true;
 			}
 			lm.stats.seconds = since(tl) + (level == finest ? setup : 0.0);
-			finer = lm;
-			if (params.levelMask & (1u << level))
-				res.levels.push_back(std::move(lm));
+			const bool wanted = params.levelMask & (1u << level);
+			if (wanted && sink && !sink(lm)) {
+				res.error = "cancelled";
+				res.levels.clear();
+				return res;
+			}
+			if (wanted && !sink) {
+				res.levels.push_back(lm);
+			} else if (wanted) {
+				res.levels.emplace_back();
+				res.levels.back().stats = lm.stats;
+			}
+			finer = std::move(lm);
 		}
 		if (!report(1.0, "done"))
 			return res;

@@ -83,6 +83,7 @@ public:
 			if (failed_.empty() || round >= kMaxRounds)
 				break;
 			fallbacks += failed_.size();
+			keepForReuse();
 			applyFallbacks();
 			out_.stats.secondsChecks += clock_.lap();
 		}
@@ -200,9 +201,12 @@ private:
 	}
 
 	// -------------------------------------------------------------- 2.3 chains and their pieces
-	// In a patch round only the pieces with a changed vertex are collected (the others are the
-	// same chains as in the previous round and keep their kept vertices).
-	void collectPieces(bool patch)
+	// Cuts the rings into pieces and simplifies each piece as it is found; pieces_ keeps only
+	// those left straight (no interior vertex kept, distinct ends, more than one edge) for
+	// separateParallelChains. In a patch round only the pieces with a changed vertex are
+	// processed (the others are the same chains as in the previous round and keep their kept
+	// vertices); they start from their end vertices only.
+	void collectAndSimplifyPieces(bool patch)
 	{
 		pieces_.clear();
 		processed_.assign(3 * t_.nF, 0);
@@ -238,7 +242,7 @@ private:
 						anchor = i;
 				if (claim(anchor, m)) {
 					const int32_t v = t_.heFrom(H[anchor]);
-					pieces_.push_back(Piece{int32_t(r), anchor, m, v, v, true, 2});
+					process(Piece{int32_t(r), anchor, m, v, v, true, 2}, patch);
 				}
 				continue;
 			}
@@ -246,15 +250,37 @@ private:
 				int32_t j = i + 1;
 				while (!junction_[size_t(t_.heFrom(H[j % m]))])
 					++j;
-				if (claim(i, j - i))
-					pieces_.push_back(Piece{int32_t(r), i % m, j - i, t_.heFrom(H[i % m]),
-					                        t_.heFrom(H[j % m]), false, 0});
+				if (claim(i, j - i)) {
+					const int32_t a = t_.heFrom(H[i % m]), e = t_.heFrom(H[j % m]);
+					// a closed chain (a == e) would straighten onto a point
+					process(Piece{int32_t(r), i % m, j - i, a, e, false, int8_t(a == e ? 2 : 0)}, patch);
+				}
 				i = j;
 			}
 		}
-		for (Piece &pc : pieces_)
-			if (!pc.loop && pc.a == pc.b) // a closed chain would straighten onto a point
-				pc.minInterior = 2;
+	}
+
+	void process(Piece pc, bool patch)
+	{
+		if (patch)
+			resetInterior(pc);
+		simplifyPiece(pc);
+		if (!pc.loop && pc.a != pc.b && pc.kept == 0 && pc.len >= 2)
+			pieces_.push_back(pc);
+	}
+
+	// Is there a border edge between vertices a and b (a piece of one edge, when both are
+	// junctions)?
+	bool borderEdge(int32_t a, int32_t b) const
+	{
+		for (int32_t q = t_.vfStart[size_t(a)]; q < t_.vfStart[size_t(a) + 1]; ++q)
+			for (int k = 0; k < 3; ++k) {
+				const int32_t h = 3 * t_.vfFace[size_t(q)] + k;
+				if (border_[size_t(h)] && ((t_.heFrom(h) == a && t_.heTo(h) == b) ||
+				                           (t_.heFrom(h) == b && t_.heTo(h) == a)))
+					return true;
+			}
+		return false;
 	}
 
 	// Patch round: a recomputed piece starts from its end vertices only.
@@ -266,39 +292,29 @@ private:
 	}
 
 	// Two chains with the same end vertices must not both straighten onto the same segment: all
-	// but one of them get back their farthest interior vertex.
+	// but one of them get back their farthest interior vertex; none stays straight when the two
+	// ends are joined by a border edge (a one-edge chain, which cannot keep a vertex).
 	void separateParallelChains()
 	{
-		std::vector<int32_t> straight; // pieces that may collapse onto the segment of their ends
-		for (size_t i = 0; i < pieces_.size(); ++i) {
-			const Piece &pc = pieces_[i];
-			if (!pc.loop && pc.a != pc.b && pc.kept == 0)
-				straight.push_back(int32_t(i));
-		}
-		auto lo = [&](size_t i) { const Piece &pc = pieces_[size_t(straight[i])]; return std::min(pc.a, pc.b); };
-		auto hi = [&](int32_t i) { const Piece &pc = pieces_[size_t(straight[size_t(i)])]; return std::max(pc.a, pc.b); };
+		auto lo = [&](size_t i) { return std::min(pieces_[i].a, pieces_[i].b); };
+		auto hi = [&](int32_t i) { return std::max(pieces_[size_t(i)].a, pieces_[size_t(i)].b); };
 		std::vector<int32_t> start, order;
-		bucketSort(straight.size(), t_.nV, lo, [&](int32_t i, int32_t j) { return hi(i) < hi(j); },
+		bucketSort(pieces_.size(), t_.nV, lo, [&](int32_t i, int32_t j) { return hi(i) < hi(j); },
 		           start, order);
 		for (size_t v = 0; v < t_.nV; ++v) {
 			for (int32_t i = start[v]; i < start[v + 1];) {
 				int32_t j = i + 1;
-				while (j < start[v + 1] && hi(order[size_t(j)]) == hi(order[size_t(i)]))
+				const int32_t w = hi(order[size_t(i)]);
+				while (j < start[v + 1] && hi(order[size_t(j)]) == w)
 					++j;
-				if (j - i >= 2) {
-					// the piece left straight: a single edge if there is one (it cannot keep a vertex)
-					int32_t keepStraight = i;
-					for (int32_t q = i; q < j; ++q)
-						if (pieces_[size_t(straight[size_t(order[size_t(q)])])].len == 1)
-							keepStraight = q;
-					for (int32_t q = i; q < j; ++q)
-						if (q != keepStraight) {
-							Piece &pc = pieces_[size_t(straight[size_t(order[size_t(q)])])];
-							loadSequence(pc);
-							pc.minInterior = 1;
-							ensureInterior(pc);
-						}
-				}
+				const bool edge = borderEdge(int32_t(v), w);
+				if (j - i >= 2 || edge)
+					for (int32_t q = edge ? i : i + 1; q < j; ++q) {
+						Piece &pc = pieces_[size_t(order[size_t(q)])];
+						loadSequence(pc);
+						pc.minInterior = 1;
+						ensureInterior(pc);
+					}
 				i = j;
 			}
 		}
@@ -667,17 +683,13 @@ private:
 		}
 		sfRingStart_[p_.count()] = int32_t(ringStart_.size());
 		ringStart_.push_back(int32_t(ringHE_.size()));
-		collectPieces(patch);
-		for (Piece &pc : pieces_) {
-			if (patch)
-				resetInterior(pc);
-			simplifyPiece(pc);
-		}
+		collectAndSimplifyPieces(patch);
 		// (a patch round separates the recomputed pieces among themselves; one that straightens
 		// onto an unchanged chain is caught by checkEdges and falls back)
 		separateParallelChains();
 		out_.stats.secondsBorders += clock_.lap();
-		std::vector<Cached> cache(p_.count());
+		std::vector<Cached> &cache = cache_;
+		cache.assign(p_.count(), Cached());
 		std::vector<int32_t> outline;
 		cachedOutlines_.clear();
 		for (size_t s = 0; s < p_.count(); ++s) {
@@ -719,14 +731,18 @@ private:
 		out_.stats.secondsTriangulation += clock_.lap();
 		if (failed_.empty())
 			checkEdges();
-		// what the next round may reuse
-		prevCache_.swap(cache);
+	}
+
+	// What the next round may reuse (before the fallbacks change the labels).
+	void keepForReuse()
+	{
+		prevCache_.swap(cache_);
 		prevOutlines_.swap(cachedOutlines_);
 		prevLabel_ = p_.label;
-		prevTris_ = tris_;
-		prevTriBorder_ = triBorder_;
-		prevTriNew_ = triNew_;
-		prevFaceDev_ = faceDev_;
+		prevTris_.swap(tris_);
+		prevTriBorder_.swap(triBorder_);
+		prevTriNew_.swap(triNew_);
+		prevFaceDev_.swap(faceDev_);
 	}
 
 	// ---------------------------------------------------------- reuse across fallback rounds
@@ -738,7 +754,7 @@ private:
 		int32_t triBegin = 0, triEnd = 0;
 		bool ok = false, retriangulated = false;
 	};
-	std::vector<Cached> prevCache_;
+	std::vector<Cached> prevCache_, cache_;
 	std::vector<int32_t> prevLabel_, prevTris_, prevOutlines_, cachedOutlines_;
 	std::vector<uint8_t> prevTriBorder_, prevTriNew_;
 	std::vector<double> prevFaceDev_;
