@@ -139,6 +139,35 @@ TEST(Levels, same_input_and_parameters_give_the_same_output)
 	}
 }
 
+TEST(Levels, a_level_sink_gets_the_same_levels_one_at_a_time_and_can_cancel)
+{
+	const FlatMesh m = loadOff("fandisk.off");
+	Params p = defaultParams(m);
+	p.levelMask = (1u << 1) | (1u << 3) | (1u << 4);
+	const Result whole = buildLevels(m.view(), p);
+	ASSERT_TRUE(whole.ok);
+	std::vector<LevelMesh> got;
+	const Result streamed =
+	    buildLevels(m.view(), p, {}, [&](const LevelMesh &l) { got.push_back(l); return true; });
+	ASSERT_TRUE(streamed.ok) << streamed.error;
+	ASSERT_EQ(got.size(), 3u);
+	ASSERT_EQ(streamed.levels.size(), 3u);
+	for (size_t i = 0; i < got.size(); ++i) {
+		EXPECT_EQ(got[i].triangles, whole.levels[i].triangles);
+		EXPECT_EQ(got[i].positions, whole.levels[i].positions);
+		EXPECT_EQ(got[i].stats.level, whole.levels[i].stats.level);
+		// the result keeps the stats only
+		EXPECT_EQ(streamed.levels[i].stats.faces, whole.levels[i].stats.faces);
+		EXPECT_TRUE(streamed.levels[i].triangles.empty());
+	}
+	int calls = 0;
+	const Result cancelled = buildLevels(m.view(), p, {}, [&](const LevelMesh &) { return ++calls < 2; });
+	EXPECT_FALSE(cancelled.ok);
+	EXPECT_EQ(cancelled.error, "cancelled");
+	EXPECT_EQ(calls, 2);
+	EXPECT_TRUE(cancelled.levels.empty());
+}
+
 TEST(Levels, level_mask_selects_levels_finest_first)
 {
 	const FlatMesh m = gridCube(4);
