@@ -29,6 +29,7 @@ void usage()
 	             "  --feature-angle D   vertex-class threshold, degrees (30)\n"
 	             "  --straighten P      border straightening tolerance, %% of bbox diagonal (0.5)\n"
 	             "  --merge P           vicinity merge distance, %% of bbox diagonal (0.25)\n"
+	             "  --threads N         worker threads, 0 = one per core (0); same output for any N\n"
 	             "  --no-colour         do not colour faces by superface\n"
 	             "  --json              one JSON line per level instead of the table\n"
 	             "exit codes: 0 ok, 1 bad input or failure, 2 bad usage\n");
@@ -68,6 +69,9 @@ int main(int argc, char **argv)
 			value(straightenPct);
 		} else if (a == "--merge") {
 			value(mergePct);
+		} else if (a == "--threads") {
+			value(v);
+			params.threads = int(v);
 		} else if (a == "--no-colour") {
 			colour = false;
 		} else if (a == "--json") {

@@ -168,6 +168,26 @@ TEST(Levels, a_level_sink_gets_the_same_levels_one_at_a_time_and_can_cancel)
 	EXPECT_TRUE(cancelled.levels.empty());
 }
 
+TEST(Levels, the_output_does_not_depend_on_the_number_of_threads)
+{
+	for (const char *name : {"fandisk.off", "bunny00.off"}) {
+		const FlatMesh m = loadOff(name);
+		Params p = defaultParams(m);
+		p.threads = 1;
+		const Result one = buildLevels(m.view(), p);
+		p.threads = 3;
+		const Result three = buildLevels(m.view(), p);
+		ASSERT_TRUE(one.ok && three.ok) << name;
+		ASSERT_EQ(one.levels.size(), three.levels.size());
+		for (size_t i = 0; i < one.levels.size(); ++i) {
+			EXPECT_EQ(one.levels[i].triangles, three.levels[i].triangles) << name << " level " << i;
+			EXPECT_EQ(one.levels[i].superface, three.levels[i].superface) << name << " level " << i;
+			EXPECT_EQ(one.levels[i].stats.fallbacks, three.levels[i].stats.fallbacks);
+			EXPECT_EQ(one.levels[i].stats.maxNormalDevDeg, three.levels[i].stats.maxNormalDevDeg);
+		}
+	}
+}
+
 TEST(Levels, level_mask_selects_levels_finest_first)
 {
 	const FlatMesh m = gridCube(4);

@@ -57,6 +57,9 @@ struct Params {
 	/// Vicinity merge distance (paper 2.3.2), absolute: consecutive border vertices closer than this
 	/// merge (less important into more important; corners only receive). 0 = no merging.
 	double mergeDistance = 0.0;
+	/// Worker threads for the per-superface work; 0 = one per core. The output does not depend
+	/// on it.
+	int threads = 0;
 };
 
 /// Convenience: tolerances given as a fraction of the bounding-box diagonal.

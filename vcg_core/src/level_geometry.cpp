@@ -8,8 +8,11 @@
 #include "engine.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <thread>
 
 namespace gausslod {
 namespace detail {
@@ -60,6 +63,30 @@ struct Piece {
 	int32_t kept = 0;         ///< interior vertices kept after simplification
 };
 
+// What one chunk of consecutive superfaces produces; chunks are concatenated in order, so the
+// result does not depend on how many threads ran them.
+struct ChunkOut {
+	std::vector<int32_t> tris, triSf, outlines;
+	std::vector<uint8_t> triBorder, triNew;
+	std::vector<std::pair<int32_t, Failure>> failed;
+	std::vector<Piece> straight; ///< pieces left straight (see separateParallelChains)
+	size_t retriangulated = 0;
+	void clear()
+	{
+		tris.clear(), triSf.clear(), outlines.clear(), triBorder.clear(), triNew.clear();
+		failed.clear(), straight.clear();
+		retriangulated = 0;
+	}
+};
+
+// Per-thread scratch.
+struct Scratch {
+	TriangulationJob job;
+	std::vector<int32_t> ringVerts, ringVertStart, seq, stack, outline;
+	std::vector<Vec3> triNormal;
+	std::vector<uint8_t> covered;
+};
+
 class LevelBuilder {
 public:
 	LevelBuilder(const Topology &t, const Params &prm, const std::vector<Partition> &finer,
@@ -74,6 +101,9 @@ public:
 		tolerance_ = std::max(prm_.straightenTolerance, 1e-9 * t_.diagonal);
 		devLimit_ = prm_.deviationFactor > 0 ? prm_.deviationFactor * levelBoundDeg(p_.level) : 180.0;
 		extraLock_.assign(t_.nV, 0);
+		threads_ = prm_.threads > 0 ? size_t(prm_.threads)
+		                            : std::max<size_t>(1, std::thread::hardware_concurrency());
+		scratch_.resize(threads_);
 		size_t fallbacks = 0;
 		int round = 0;
 		for (;; ++round) {
@@ -107,7 +137,7 @@ private:
 	std::vector<uint8_t> changed_;            // patch round: degree or junction status changed
 	std::vector<uint8_t> dirty_;              // per superface: rebuilt this round
 	std::vector<int32_t> ringHE_, ringStart_, sfRingStart_;
-	std::vector<uint8_t> visited_, processed_;
+	std::vector<uint8_t> visited_, broken_;
 	std::vector<Piece> pieces_;
 	std::vector<std::pair<int32_t, Failure>> failed_;
 	// output of a round
@@ -115,9 +145,58 @@ private:
 	std::vector<uint8_t> triBorder_, triNew_;
 	std::vector<double> faceDev_;             // per input face, -1 = not measured
 	size_t retriangulated_ = 0;
-	// scratch
-	TriangulationJob job_;
-	std::vector<int32_t> ringVerts_, ringVertStart_, seq_, stack_;
+	// work split in chunks of consecutive superfaces, run on threads_ threads
+	size_t threads_ = 1;
+	std::vector<Scratch> scratch_;       // per thread
+	std::vector<int32_t> chunkStart_;    // chunk c = superfaces [chunkStart_[c], chunkStart_[c+1])
+	std::vector<ChunkOut> chunks_;
+
+	// Runs fn(chunk, scratch) for every chunk, on up to threads_ threads.
+	template <class Fn>
+	void forEachChunk(Fn fn)
+	{
+		const size_t n = chunkStart_.size() - 1, nt = std::min(threads_, n);
+		std::atomic<size_t> next(0);
+		std::exception_ptr error;
+		std::atomic<bool> failed(false);
+		auto work = [&](size_t w) {
+			try {
+				for (size_t c; !failed && (c = next++) < n;)
+					fn(c, scratch_[w]);
+			} catch (...) {
+				if (!failed.exchange(true))
+					error = std::current_exception();
+			}
+		};
+		std::vector<std::thread> pool;
+		for (size_t w = 1; w < nt; ++w)
+			pool.emplace_back(work, w);
+		work(0);
+		for (std::thread &th : pool)
+			th.join();
+		if (error)
+			std::rethrow_exception(error);
+	}
+
+	// Chunks of about the same number of faces (several per thread, for balance).
+	void makeChunks()
+	{
+		const size_t ns = p_.count();
+		const size_t target = std::max<size_t>(2048, t_.nF / (8 * threads_) + 1);
+		chunkStart_.assign(1, 0);
+		size_t faces = 0;
+		for (size_t s = 0; s < ns; ++s) {
+			faces += size_t(sfStart_[s + 1] - sfStart_[s]);
+			if (faces >= target && s + 1 < ns) {
+				chunkStart_.push_back(int32_t(s + 1));
+				faces = 0;
+			}
+		}
+		chunkStart_.push_back(int32_t(ns));
+		chunks_.resize(chunkStart_.size() - 1);
+		for (ChunkOut &c : chunks_)
+			c.clear();
+	}
 
 	// ---------------------------------------------------------------- 2.2.2 borders and rings
 	void groupFaces()
@@ -208,65 +287,74 @@ private:
 	// vertices); they start from their end vertices only.
 	void collectAndSimplifyPieces(bool patch)
 	{
+		forEachChunk([&](size_t c, Scratch &w) {
+			for (int32_t sf = chunkStart_[c]; sf < chunkStart_[c + 1]; ++sf)
+				for (int32_t r = sfRingStart_[size_t(sf)]; r < sfRingStart_[size_t(sf) + 1]; ++r)
+					collectRing(sf, r, patch, w, chunks_[c]);
+		});
 		pieces_.clear();
-		processed_.assign(3 * t_.nF, 0);
-		for (size_t r = 0; r + 1 < ringStart_.size(); ++r) {
-			const int32_t b = ringStart_[r], m = ringStart_[r + 1] - b;
-			const int32_t *H = &ringHE_[size_t(b)];
-			int32_t first = -1;
-			for (int32_t i = 0; i < m && first < 0; ++i)
-				if (junction_[size_t(t_.heFrom(H[i]))])
-					first = i;
-			auto claim = [&](int32_t start, int32_t len) {
-				if (processed_[size_t(H[start % m])])
-					return false;
-				if (patch) {
-					bool touched = false;
-					for (int32_t i = 0; i <= len && !touched; ++i)
-						touched = changed_[size_t(t_.heFrom(H[(start + i) % m]))] != 0;
-					if (!touched)
-						return false;
-				}
-				for (int32_t i = 0; i < len; ++i) {
-					const int32_t h = H[(start + i) % m];
-					processed_[size_t(h)] = 1;
-					if (t_.twin[size_t(h)] >= 0)
-						processed_[size_t(t_.twin[size_t(h)])] = 1;
-				}
-				return true;
-			};
-			if (first < 0) { // closed loop without junction: anchor at its smallest vertex id
-				int32_t anchor = 0;
-				for (int32_t i = 1; i < m; ++i)
-					if (t_.heFrom(H[i]) < t_.heFrom(H[anchor]))
-						anchor = i;
-				if (claim(anchor, m)) {
-					const int32_t v = t_.heFrom(H[anchor]);
-					process(Piece{int32_t(r), anchor, m, v, v, true, 2}, patch);
-				}
-				continue;
+		for (const ChunkOut &o : chunks_)
+			pieces_.insert(pieces_.end(), o.straight.begin(), o.straight.end());
+	}
+
+	// A piece is processed from one side only: the superface of lower index among those whose
+	// rings were traced (the other side of a mesh-boundary or non-manifold edge has none).
+	bool owns(int32_t sf, int32_t h) const
+	{
+		const int32_t tw = t_.twin[size_t(h)];
+		if (tw < 0)
+			return true;
+		const int32_t other = p_.label[size_t(heFace(tw))];
+		return sf < other || !dirty_[size_t(other)] || broken_[size_t(other)];
+	}
+
+	void collectRing(int32_t sf, int32_t r, bool patch, Scratch &w, ChunkOut &o)
+	{
+		const int32_t b = ringStart_[size_t(r)], m = ringStart_[size_t(r) + 1] - b;
+		const int32_t *H = &ringHE_[size_t(b)];
+		int32_t first = -1;
+		for (int32_t i = 0; i < m && first < 0; ++i)
+			if (junction_[size_t(t_.heFrom(H[i]))])
+				first = i;
+		auto wanted = [&](int32_t start, int32_t len) {
+			if (!owns(sf, H[start % m]))
+				return false;
+			bool touched = !patch;
+			for (int32_t i = 0; i <= len && !touched; ++i)
+				touched = changed_[size_t(t_.heFrom(H[(start + i) % m]))] != 0;
+			return touched;
+		};
+		if (first < 0) { // closed loop without junction: anchor at its smallest vertex id
+			int32_t anchor = 0;
+			for (int32_t i = 1; i < m; ++i)
+				if (t_.heFrom(H[i]) < t_.heFrom(H[anchor]))
+					anchor = i;
+			if (wanted(anchor, m)) {
+				const int32_t v = t_.heFrom(H[anchor]);
+				process(Piece{r, anchor, m, v, v, true, 2}, patch, w, o);
 			}
-			for (int32_t i = first; i < first + m;) {
-				int32_t j = i + 1;
-				while (!junction_[size_t(t_.heFrom(H[j % m]))])
-					++j;
-				if (claim(i, j - i)) {
-					const int32_t a = t_.heFrom(H[i % m]), e = t_.heFrom(H[j % m]);
-					// a closed chain (a == e) would straighten onto a point
-					process(Piece{int32_t(r), i % m, j - i, a, e, false, int8_t(a == e ? 2 : 0)}, patch);
-				}
-				i = j;
+			return;
+		}
+		for (int32_t i = first; i < first + m;) {
+			int32_t j = i + 1;
+			while (!junction_[size_t(t_.heFrom(H[j % m]))])
+				++j;
+			if (wanted(i, j - i)) {
+				const int32_t a = t_.heFrom(H[i % m]), e = t_.heFrom(H[j % m]);
+				// a closed chain (a == e) would straighten onto a point
+				process(Piece{r, i % m, j - i, a, e, false, int8_t(a == e ? 2 : 0)}, patch, w, o);
 			}
+			i = j;
 		}
 	}
 
-	void process(Piece pc, bool patch)
+	void process(Piece pc, bool patch, Scratch &w, ChunkOut &o)
 	{
 		if (patch)
 			resetInterior(pc);
-		simplifyPiece(pc);
+		simplifyPiece(pc, w);
 		if (!pc.loop && pc.a != pc.b && pc.kept == 0 && pc.len >= 2)
-			pieces_.push_back(pc);
+			o.straight.push_back(pc);
 	}
 
 	// Is there a border edge between vertices a and b (a piece of one edge, when both are
@@ -311,31 +399,31 @@ private:
 				if (j - i >= 2 || edge)
 					for (int32_t q = edge ? i : i + 1; q < j; ++q) {
 						Piece &pc = pieces_[size_t(order[size_t(q)])];
-						loadSequence(pc);
+						loadSequence(pc, scratch_[0]);
 						pc.minInterior = 1;
-						ensureInterior(pc);
+						ensureInterior(pc, scratch_[0]);
 					}
 				i = j;
 			}
 		}
 	}
 
-	void loadSequence(const Piece &pc)
+	void loadSequence(const Piece &pc, Scratch &w) const
 	{
 		const int32_t b = ringStart_[size_t(pc.ring)], m = ringStart_[size_t(pc.ring) + 1] - b;
-		seq_.resize(size_t(pc.len) + 1);
+		w.seq.resize(size_t(pc.len) + 1);
 		for (int32_t i = 0; i <= pc.len; ++i)
-			seq_[size_t(i)] = t_.heFrom(ringHE_[size_t(b + (pc.start + i) % m)]);
+			w.seq[size_t(i)] = t_.heFrom(ringHE_[size_t(b + (pc.start + i) % m)]);
 	}
 
 	// Farthest interior vertex of (lo, hi) from the segment seq[lo]-seq[hi]; -1 if none.
-	int32_t farthest(int32_t lo, int32_t hi, double &dist) const
+	int32_t farthest(int32_t lo, int32_t hi, double &dist, const Scratch &w) const
 	{
 		int32_t best = -1;
 		dist = -1;
-		const Vec3 a = t_.pos(seq_[size_t(lo)]), c = t_.pos(seq_[size_t(hi)]);
+		const Vec3 a = t_.pos(w.seq[size_t(lo)]), c = t_.pos(w.seq[size_t(hi)]);
 		for (int32_t i = lo + 1; i < hi; ++i) {
-			const double d = pointSegmentDistance(t_.pos(seq_[size_t(i)]), a, c);
+			const double d = pointSegmentDistance(t_.pos(w.seq[size_t(i)]), a, c);
 			if (d > dist) {
 				dist = d;
 				best = i;
@@ -346,91 +434,91 @@ private:
 
 	// Keeps at least pc.minInterior interior vertices (seq_ loaded): adds the vertex farthest
 	// from the current kept polyline, one at a time.
-	void ensureInterior(Piece &pc)
+	void ensureInterior(Piece &pc, const Scratch &w)
 	{
 		const int32_t n = pc.len;
 		while (pc.kept < pc.minInterior && pc.kept < n - 1) {
 			int32_t best = -1, lo = 0;
 			double bestD = -1;
 			for (int32_t i = 1; i <= n; ++i) {
-				if (i < n && keep_[size_t(seq_[size_t(i)])] == 0)
+				if (i < n && keep_[size_t(w.seq[size_t(i)])] == 0)
 					continue;
 				double d;
-				const int32_t f = farthest(lo, i, d);
+				const int32_t f = farthest(lo, i, d, w);
 				if (f >= 0 && d > bestD)
 					bestD = d, best = f;
 				lo = i;
 			}
 			if (best < 0)
 				break;
-			keep_[size_t(seq_[size_t(best)])] = 1;
+			keep_[size_t(w.seq[size_t(best)])] = 1;
 			++pc.kept;
 		}
 	}
 
 	// 2.3.1 straightening (Douglas-Peucker: split at the farthest vertex while it is farther than
 	// the tolerance) and 2.3.2 vicinity merging, on one piece's vertex sequence.
-	void simplifyPiece(Piece &pc)
+	void simplifyPiece(Piece &pc, Scratch &w)
 	{
-		loadSequence(pc);
-		const int32_t n = pc.len; // seq_[0] and seq_[n] are the ends
-		auto P = [&](int32_t i) { return t_.pos(seq_[size_t(i)]); };
+		loadSequence(pc, w);
+		const int32_t n = pc.len; // w.seq[0] and w.seq[n] are the ends
+		auto P = [&](int32_t i) { return t_.pos(w.seq[size_t(i)]); };
 		const double tol = tolerance_;
 		int32_t &kept = pc.kept; // interior vertices kept
 		auto keepIdx = [&](int32_t i) {
-			if (!keep_[size_t(seq_[size_t(i)])]) {
-				keep_[size_t(seq_[size_t(i)])] = 1;
+			if (!keep_[size_t(w.seq[size_t(i)])]) {
+				keep_[size_t(w.seq[size_t(i)])] = 1;
 				++kept;
 			}
 		};
 		if (n < 2)
 			return;
-		stack_.clear();
+		w.stack.clear();
 		if (pc.loop) { // anchor + the vertex farthest from it split the loop in two chains
-			keep_[size_t(seq_[0])] = 1;
+			keep_[size_t(w.seq[0])] = 1;
 			double d;
-			const int32_t far = farthest(0, n, d);
+			const int32_t far = farthest(0, n, d, w);
 			keepIdx(far);
-			stack_.push_back(0), stack_.push_back(far);
-			stack_.push_back(far), stack_.push_back(n);
+			w.stack.push_back(0), w.stack.push_back(far);
+			w.stack.push_back(far), w.stack.push_back(n);
 		} else {
-			stack_.push_back(0), stack_.push_back(n);
+			w.stack.push_back(0), w.stack.push_back(n);
 		}
-		while (!stack_.empty()) {
-			const int32_t hi = stack_.back();
-			stack_.pop_back();
-			const int32_t lo = stack_.back();
-			stack_.pop_back();
+		while (!w.stack.empty()) {
+			const int32_t hi = w.stack.back();
+			w.stack.pop_back();
+			const int32_t lo = w.stack.back();
+			w.stack.pop_back();
 			if (hi - lo < 2)
 				continue;
 			double d;
-			const int32_t i = farthest(lo, hi, d);
+			const int32_t i = farthest(lo, hi, d, w);
 			if (d > tol) {
 				keepIdx(i);
-				stack_.push_back(lo), stack_.push_back(i);
-				stack_.push_back(i), stack_.push_back(hi);
+				w.stack.push_back(lo), w.stack.push_back(i);
+				w.stack.push_back(i), w.stack.push_back(hi);
 			}
 		}
-		ensureInterior(pc);
+		ensureInterior(pc, w);
 		if (prm_.mergeDistance <= 0)
 			return;
 		// 2.3.2 vicinity merging: a kept interior vertex closer than the merge distance to a kept
 		// neighbour on its chain merges into it if it is not more important; corners only receive.
 		int32_t prev = 0;
 		for (int32_t i = 1; i < n; ++i) {
-			const int32_t v = seq_[size_t(i)];
+			const int32_t v = w.seq[size_t(i)];
 			if (!keep_[size_t(v)])
 				continue;
 			int32_t next = i + 1;
-			while (next < n && !keep_[size_t(seq_[size_t(next)])])
+			while (next < n && !keep_[size_t(w.seq[size_t(next)])])
 				++next;
 			if (kept <= pc.minInterior)
 				break;
 			const uint8_t cls = t_.vertexClass[size_t(v)];
 			const double dp = (P(i) - P(prev)).Norm(), dn = (P(i) - P(next)).Norm();
-			const int32_t w = dp <= dn ? prev : next;
+			const int32_t into = dp <= dn ? prev : next;
 			const bool close = std::min(dp, dn) < prm_.mergeDistance;
-			if (close && cls != kCorner && cls <= t_.vertexClass[size_t(seq_[size_t(w)])]) {
+			if (close && cls != kCorner && cls <= t_.vertexClass[size_t(w.seq[size_t(into)])]) {
 				keep_[size_t(v)] = 0;
 				--kept;
 				continue; // prev stays
@@ -440,22 +528,22 @@ private:
 	}
 
 	// ------------------------------------------------------------------- 2.4 re-triangulation
-	void emit(int32_t a, int32_t b, int32_t c, int32_t s, uint8_t borderBits, bool isNew)
+	static void emit(ChunkOut &o, int32_t a, int32_t b, int32_t c, int32_t s, uint8_t borderBits, bool isNew)
 	{
-		tris_.push_back(a), tris_.push_back(b), tris_.push_back(c);
-		triSf_.push_back(s);
-		triBorder_.push_back(borderBits);
-		triNew_.push_back(isNew);
+		o.tris.push_back(a), o.tris.push_back(b), o.tris.push_back(c);
+		o.triSf.push_back(s);
+		o.triBorder.push_back(borderBits);
+		o.triNew.push_back(isNew);
 	}
 
-	Failure retriangulate(int32_t s)
+	Failure retriangulate(int32_t s, Scratch &w, ChunkOut &o)
 	{
 		const int32_t fb = sfStart_[size_t(s)], fe = sfStart_[size_t(s) + 1];
 		if (p_.cell[size_t(s)] == kInvalidCell) { // invalid input face: kept as it is
 			for (int32_t i = fb; i < fe; ++i) {
 				const int32_t f = sfFace_[size_t(i)];
 				if (!t_.faceDropped[size_t(f)])
-					emit(t_.T[3 * f], t_.T[3 * f + 1], t_.T[3 * f + 2], s, 7, false);
+					emit(o, t_.T[3 * f], t_.T[3 * f + 1], t_.T[3 * f + 2], s, 7, false);
 			}
 			return Failure::None;
 		}
@@ -481,85 +569,85 @@ private:
 				uint8_t bits = 0;
 				for (int k = 0; k < 3; ++k)
 					bits |= uint8_t(border_[size_t(3 * f + k)] << k);
-				emit(t_.T[3 * f], t_.T[3 * f + 1], t_.T[3 * f + 2], s, bits, false);
+				emit(o, t_.T[3 * f], t_.T[3 * f + 1], t_.T[3 * f + 2], s, bits, false);
 				faceDev_[size_t(f)] = 0;
 			}
 			return Failure::None;
 		}
 		// kept ring vertices
-		ringVerts_.clear();
-		ringVertStart_.assign(1, 0);
+		w.ringVerts.clear();
+		w.ringVertStart.assign(1, 0);
 		for (int32_t r = sfRingStart_[size_t(s)]; r < sfRingStart_[size_t(s) + 1]; ++r) {
 			for (int32_t i = ringStart_[size_t(r)]; i < ringStart_[size_t(r) + 1]; ++i) {
 				const int32_t v = t_.heFrom(ringHE_[size_t(i)]);
 				if (keep_[size_t(v)])
-					ringVerts_.push_back(v);
+					w.ringVerts.push_back(v);
 			}
-			if (int32_t(ringVerts_.size()) - ringVertStart_.back() < 3)
+			if (int32_t(w.ringVerts.size()) - w.ringVertStart.back() < 3)
 				return Failure::Ring;
-			ringVertStart_.push_back(int32_t(ringVerts_.size()));
+			w.ringVertStart.push_back(int32_t(w.ringVerts.size()));
 		}
-		if (ringVertStart_.size() < 2)
+		if (w.ringVertStart.size() < 2)
 			return Failure::Ring;
-		const size_t firstTri = tris_.size() / 3;
-		if (ringVertStart_.size() == 2 && ringVerts_.size() == 3) { // one triangle
-			emit(ringVerts_[0], ringVerts_[1], ringVerts_[2], s, 7, true);
+		const size_t firstTri = o.tris.size() / 3;
+		if (w.ringVertStart.size() == 2 && w.ringVerts.size() == 3) { // one triangle
+			emit(o, w.ringVerts[0], w.ringVerts[1], w.ringVerts[2], s, 7, true);
 		} else {
 			// project on the plane orthogonal to the area-weighted normal (U x V = N)
 			const Vec3 U = (std::fabs(N[0]) < 0.9 ? N ^ Vec3(1, 0, 0) : N ^ Vec3(0, 1, 0)).Normalize();
 			const Vec3 V = N ^ U;
-			const Vec3 o = t_.pos(ringVerts_[0]);
-			job_.xy.resize(2 * ringVerts_.size());
-			for (size_t i = 0; i < ringVerts_.size(); ++i) {
-				const Vec3 q = t_.pos(ringVerts_[i]) - o;
-				job_.xy[2 * i] = q.dot(U);
-				job_.xy[2 * i + 1] = q.dot(V);
+			const Vec3 origin = t_.pos(w.ringVerts[0]);
+			w.job.xy.resize(2 * w.ringVerts.size());
+			for (size_t i = 0; i < w.ringVerts.size(); ++i) {
+				const Vec3 q = t_.pos(w.ringVerts[i]) - origin;
+				w.job.xy[2 * i] = q.dot(U);
+				w.job.xy[2 * i + 1] = q.dot(V);
 			}
-			job_.ringStart = ringVertStart_;
-			job_.queryXY.resize(2 * size_t(fe - fb));
+			w.job.ringStart = w.ringVertStart;
+			w.job.queryXY.resize(2 * size_t(fe - fb));
 			for (int32_t i = fb; i < fe; ++i) {
 				const int32_t f = sfFace_[size_t(i)];
 				const Vec3 c =
-				    (t_.pos(t_.T[3 * f]) + t_.pos(t_.T[3 * f + 1]) + t_.pos(t_.T[3 * f + 2])) / 3.0 - o;
-				job_.queryXY[2 * size_t(i - fb)] = c.dot(U);
-				job_.queryXY[2 * size_t(i - fb) + 1] = c.dot(V);
+				    (t_.pos(t_.T[3 * f]) + t_.pos(t_.T[3 * f + 1]) + t_.pos(t_.T[3 * f + 2])) / 3.0 - origin;
+				w.job.queryXY[2 * size_t(i - fb)] = c.dot(U);
+				w.job.queryXY[2 * size_t(i - fb) + 1] = c.dot(V);
 			}
-			if (!triangulateRings(job_))
+			if (!triangulateRings(w.job))
 				return Failure::Ring;
-			for (size_t k = 0; k < job_.tris.size(); k += 3)
-				emit(ringVerts_[size_t(job_.tris[k])], ringVerts_[size_t(job_.tris[k + 1])],
-				     ringVerts_[size_t(job_.tris[k + 2])], s, job_.constrained[k / 3], true);
+			for (size_t k = 0; k < w.job.tris.size(); k += 3)
+				emit(o, w.ringVerts[size_t(w.job.tris[k])], w.ringVerts[size_t(w.job.tris[k + 1])],
+				     w.ringVerts[size_t(w.job.tris[k + 2])], s, w.job.constrained[k / 3], true);
 		}
 		// measured normal deviation; a triangle flipped (>90 deg) against an input face fails
-		const size_t ntri = tris_.size() / 3 - firstTri;
-		std::vector<Vec3> &tn = triNormalScratch_;
+		const size_t ntri = o.tris.size() / 3 - firstTri;
+		std::vector<Vec3> &tn = w.triNormal;
 		tn.resize(ntri);
 		for (size_t k = 0; k < ntri; ++k) {
-			const int32_t *v = &tris_[3 * (firstTri + k)];
+			const int32_t *v = &o.tris[3 * (firstTri + k)];
 			Vec3 n = (t_.pos(v[1]) - t_.pos(v[0])) ^ (t_.pos(v[2]) - t_.pos(v[0]));
 			if (!(n.Norm() > 0))
 				return Failure::Ring;
 			tn[k] = n / n.Norm();
 		}
-		covered_.assign(ntri, 0);
+		w.covered.assign(ntri, 0);
 		for (int32_t i = fb; i < fe; ++i) {
 			const int32_t f = sfFace_[size_t(i)];
-			const int32_t k = ntri == 1 ? 0 : job_.queryTri[size_t(i - fb)];
+			const int32_t k = ntri == 1 ? 0 : w.job.queryTri[size_t(i - fb)];
 			if (k < 0)
 				continue;
 			const double d = angleDeg(t_.faceNormal[size_t(f)], tn[size_t(k)]);
 			if (d > 90 || d > devLimit_)
 				return Failure::Ring;
 			faceDev_[size_t(f)] = d;
-			covered_[size_t(k)] = 1;
+			w.covered[size_t(k)] = 1;
 		}
 		// a triangle that covers no input face centroid is checked against the faces of the
 		// superface around its corners
 		for (size_t k = 0; k < ntri; ++k) {
-			if (covered_[k])
+			if (w.covered[k])
 				continue;
 			for (int c = 0; c < 3; ++c) {
-				const int32_t v = tris_[3 * (firstTri + k) + size_t(c)];
+				const int32_t v = o.tris[3 * (firstTri + k) + size_t(c)];
 				for (int32_t q = t_.vfStart[size_t(v)]; q < t_.vfStart[size_t(v) + 1]; ++q) {
 					const int32_t f = t_.vfFace[size_t(q)];
 					if (p_.label[size_t(f)] == s && t_.faceNormal[size_t(f)].dot(tn[k]) < 0)
@@ -567,22 +655,20 @@ private:
 				}
 			}
 		}
-		++retriangulated_;
+		++o.retriangulated;
 		return Failure::None;
 	}
-	std::vector<Vec3> triNormalScratch_;
-	std::vector<uint8_t> covered_;
 	double devLimit_ = 180;
 	Stopwatch clock_;
 	double tolerance_ = 0;
 
 	// Rolls back what a failed superface emitted.
-	void truncate(size_t triCount)
+	static void truncate(ChunkOut &o, size_t triCount)
 	{
-		tris_.resize(3 * triCount);
-		triSf_.resize(triCount);
-		triBorder_.resize(triCount);
-		triNew_.resize(triCount);
+		o.tris.resize(3 * triCount);
+		o.triSf.resize(triCount);
+		o.triBorder.resize(triCount);
+		o.triNew.resize(triCount);
 	}
 
 	// ------------------------------------------------------------- validity of the whole level
@@ -670,7 +756,8 @@ private:
 		ringStart_.clear();
 		sfRingStart_.assign(p_.count() + 1, 0);
 		visited_.assign(3 * t_.nF, 0);
-		std::vector<uint8_t> broken(p_.count(), 0);
+		broken_.assign(p_.count(), 0);
+		std::vector<uint8_t> &broken = broken_;
 		for (size_t s = 0; s < p_.count(); ++s) {
 			sfRingStart_[s] = int32_t(ringStart_.size());
 			if (!dirty_[s])
@@ -683,54 +770,79 @@ private:
 		}
 		sfRingStart_[p_.count()] = int32_t(ringStart_.size());
 		ringStart_.push_back(int32_t(ringHE_.size()));
+		makeChunks();
 		collectAndSimplifyPieces(patch);
 		// (a patch round separates the recomputed pieces among themselves; one that straightens
 		// onto an unchanged chain is caught by checkEdges and falls back)
 		separateParallelChains();
 		out_.stats.secondsBorders += clock_.lap();
-		std::vector<Cached> &cache = cache_;
-		cache.assign(p_.count(), Cached());
-		std::vector<int32_t> outline;
+		cache_.assign(p_.count(), Cached());
+		forEachChunk([&](size_t c, Scratch &w) {
+			for (int32_t sf = chunkStart_[c]; sf < chunkStart_[c + 1]; ++sf)
+				buildSuperface(sf, w, chunks_[c]);
+		});
+		// concatenate the chunks (offsets in cache_ were chunk-relative)
 		cachedOutlines_.clear();
-		for (size_t s = 0; s < p_.count(); ++s) {
-			const size_t before = tris_.size() / 3;
-			const size_t retriBefore = retriangulated_;
-			Cached &c = cache[s];
-			if (!dirty_[s]) { // unchanged since the previous round
-				const Cached &pc = prevCache_[size_t(prevLabel_[size_t(sfFace_[size_t(sfStart_[s])])])];
-				c = pc;
-				c.outlineBegin = int32_t(cachedOutlines_.size());
-				cachedOutlines_.insert(cachedOutlines_.end(), prevOutlines_.begin() + pc.outlineBegin,
-				                       prevOutlines_.begin() + pc.outlineEnd);
-				c.outlineEnd = int32_t(cachedOutlines_.size());
-				copyPrevious(int32_t(s), pc);
-				c.triBegin = int32_t(before);
-				c.triEnd = int32_t(tris_.size() / 3);
-				continue;
+		for (size_t c = 0; c < chunks_.size(); ++c) {
+			const ChunkOut &o = chunks_[c];
+			const int32_t triBase = int32_t(triSf_.size()), outBase = int32_t(cachedOutlines_.size());
+			for (int32_t sf = chunkStart_[c]; sf < chunkStart_[c + 1]; ++sf) {
+				Cached &cc = cache_[size_t(sf)];
+				cc.triBegin += triBase, cc.triEnd += triBase;
+				cc.outlineBegin += outBase, cc.outlineEnd += outBase;
 			}
-			keptOutline(int32_t(s), outline);
-			c.firstFace = sfFace_[size_t(sfStart_[s])];
-			c.faceCount = sfStart_[s + 1] - sfStart_[s];
-			c.outlineBegin = int32_t(cachedOutlines_.size());
-			cachedOutlines_.insert(cachedOutlines_.end(), outline.begin(), outline.end());
-			c.outlineEnd = int32_t(cachedOutlines_.size());
-			Failure f = Failure::None;
-			if (broken[s])
-				f = Failure::Fold;
-			else if (!reuse(int32_t(s), c, outline))
-				f = retriangulate(int32_t(s));
-			if (f != Failure::None) {
-				truncate(before);
-				failed_.emplace_back(int32_t(s), f);
-			}
-			c.ok = f == Failure::None;
-			c.retriangulated = retriangulated_ > retriBefore;
-			c.triBegin = int32_t(before);
-			c.triEnd = int32_t(tris_.size() / 3);
+			tris_.insert(tris_.end(), o.tris.begin(), o.tris.end());
+			triSf_.insert(triSf_.end(), o.triSf.begin(), o.triSf.end());
+			triBorder_.insert(triBorder_.end(), o.triBorder.begin(), o.triBorder.end());
+			triNew_.insert(triNew_.end(), o.triNew.begin(), o.triNew.end());
+			cachedOutlines_.insert(cachedOutlines_.end(), o.outlines.begin(), o.outlines.end());
+			failed_.insert(failed_.end(), o.failed.begin(), o.failed.end());
+			retriangulated_ += o.retriangulated;
 		}
 		out_.stats.secondsTriangulation += clock_.lap();
 		if (failed_.empty())
 			checkEdges();
+	}
+
+	// One superface of a round: copied from the previous round when nothing around it changed,
+	// else its outline is compared with the previous round's, else it is re-triangulated.
+	void buildSuperface(int32_t s, Scratch &w, ChunkOut &o)
+	{
+		const size_t before = o.triSf.size();
+		const size_t retriBefore = o.retriangulated;
+		Cached &c = cache_[size_t(s)];
+		if (!dirty_[size_t(s)]) { // unchanged since the previous round
+			const Cached &pc = prevCache_[size_t(prevLabel_[size_t(sfFace_[size_t(sfStart_[size_t(s)])])])];
+			c = pc;
+			c.outlineBegin = int32_t(o.outlines.size());
+			o.outlines.insert(o.outlines.end(), prevOutlines_.begin() + pc.outlineBegin,
+			                  prevOutlines_.begin() + pc.outlineEnd);
+			c.outlineEnd = int32_t(o.outlines.size());
+			copyPrevious(s, pc, o);
+			c.triBegin = int32_t(before);
+			c.triEnd = int32_t(o.triSf.size());
+			return;
+		}
+		std::vector<int32_t> &outline = w.outline;
+		keptOutline(s, outline);
+		c.firstFace = sfFace_[size_t(sfStart_[size_t(s)])];
+		c.faceCount = sfStart_[size_t(s) + 1] - sfStart_[size_t(s)];
+		c.outlineBegin = int32_t(o.outlines.size());
+		o.outlines.insert(o.outlines.end(), outline.begin(), outline.end());
+		c.outlineEnd = int32_t(o.outlines.size());
+		Failure f = Failure::None;
+		if (broken_[size_t(s)])
+			f = Failure::Fold;
+		else if (!reuse(s, c, outline, o))
+			f = retriangulate(s, w, o);
+		if (f != Failure::None) {
+			truncate(o, before);
+			o.failed.emplace_back(s, f);
+		}
+		c.ok = f == Failure::None;
+		c.retriangulated = o.retriangulated > retriBefore;
+		c.triBegin = int32_t(before);
+		c.triEnd = int32_t(o.triSf.size());
 	}
 
 	// What the next round may reuse (before the fallbacks change the labels).
@@ -773,7 +885,7 @@ private:
 		}
 	}
 
-	bool reuse(int32_t s, const Cached &now, const std::vector<int32_t> &outline)
+	bool reuse(int32_t s, const Cached &now, const std::vector<int32_t> &outline, ChunkOut &o)
 	{
 		if (prevCache_.empty())
 			return false;
@@ -783,20 +895,20 @@ private:
 		    c.outlineEnd - c.outlineBegin != int32_t(outline.size()) ||
 		    !std::equal(outline.begin(), outline.end(), prevOutlines_.begin() + c.outlineBegin))
 			return false;
-		copyPrevious(s, c);
+		copyPrevious(s, c, o);
 		return true;
 	}
 
-	void copyPrevious(int32_t s, const Cached &c)
+	void copyPrevious(int32_t s, const Cached &c, ChunkOut &o)
 	{
 		for (int32_t k = c.triBegin; k < c.triEnd; ++k)
-			emit(prevTris_[3 * size_t(k)], prevTris_[3 * size_t(k) + 1], prevTris_[3 * size_t(k) + 2],
+			emit(o, prevTris_[3 * size_t(k)], prevTris_[3 * size_t(k) + 1], prevTris_[3 * size_t(k) + 2],
 			     s, prevTriBorder_[size_t(k)], prevTriNew_[size_t(k)]);
 		for (int32_t i = sfStart_[size_t(s)]; i < sfStart_[size_t(s) + 1]; ++i) {
 			const int32_t f = sfFace_[size_t(i)];
 			faceDev_[size_t(f)] = prevFaceDev_[size_t(f)];
 		}
-		retriangulated_ += c.retriangulated;
+		o.retriangulated += c.retriangulated;
 	}
 
 	// A failed superface first has its border locked (no straightening, no merging); if it still
