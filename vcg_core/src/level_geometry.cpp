@@ -132,9 +132,13 @@ private:
 	// per round
 	std::vector<int32_t> sfStart_, sfFace_;   // superface -> faces (CSR)
 	std::vector<uint8_t> border_;             // per half-edge
-	std::vector<int32_t> degree_, oldDegree_; // border edges per vertex (this, previous round)
-	std::vector<uint8_t> junction_, oldJunction_, keep_, extraLock_;
+	std::vector<int32_t> degree_;             // border edges per vertex
+	std::vector<uint8_t> junction_, keep_, extraLock_;
 	std::vector<uint8_t> changed_;            // patch round: degree or junction status changed
+	std::vector<int32_t> changedList_;        // the vertices marked in changed_
+	std::vector<int32_t> relabeled_;          // faces whose superface the last fallbacks split
+	std::vector<int32_t> failedFace_;         // a face of each superface that failed last round
+	std::vector<int32_t> lockedNow_;          // vertices the last fallbacks locked
 	std::vector<uint8_t> dirty_;              // per superface: rebuilt this round
 	std::vector<int32_t> ringHE_, ringStart_, sfRingStart_;
 	std::vector<uint8_t> visited_, broken_;
@@ -219,8 +223,8 @@ private:
 	void findBorders(bool patch)
 	{
 		if (patch) {
-			oldDegree_.swap(degree_);
-			oldJunction_.swap(junction_);
+			updateBorders();
+			return;
 		}
 		border_.assign(3 * t_.nF, 0);
 		degree_.assign(t_.nV, 0);
@@ -236,18 +240,54 @@ private:
 		}
 		junction_.assign(t_.nV, 0);
 		for (size_t v = 0; v < t_.nV; ++v)
-			junction_[v] = degree_[v] > 0 &&
-			               (degree_[v] != 2 || t_.vertexLocked[v] || extraLock_[v]);
-		if (!patch) {
-			keep_ = junction_;
-			return;
-		}
+			junction_[v] = isJunction(v);
+		keep_ = junction_;
 		changed_.assign(t_.nV, 0);
-		for (size_t v = 0; v < t_.nV; ++v)
-			if (degree_[v] != oldDegree_[v] || junction_[v] != oldJunction_[v]) {
-				changed_[v] = 1;
-				keep_[v] = junction_[v]; // non-junctions: their piece is recomputed below
+		changedList_.clear();
+	}
+
+	bool isJunction(size_t v) const
+	{
+		return degree_[v] > 0 && (degree_[v] != 2 || t_.vertexLocked[v] || extraLock_[v]);
+	}
+
+	// Patch round: only the half-edges of the faces the fallbacks relabelled can have changed
+	// border status (borders are only added), and only their vertices and the newly locked ones
+	// can have changed degree or junction status: those are marked in changed_ / changedList_.
+	void updateBorders()
+	{
+		for (int32_t v : changedList_)
+			changed_[size_t(v)] = 0;
+		changedList_.clear();
+		auto touch = [&](int32_t v) {
+			if (!changed_[size_t(v)]) {
+				changed_[size_t(v)] = 1;
+				changedList_.push_back(v);
 			}
+		};
+		for (int32_t f : relabeled_)
+			for (int k = 0; k < 3; ++k) {
+				const int32_t h = 3 * f + k, tw = t_.twin[size_t(h)];
+				const bool b = !t_.faceDropped[size_t(f)] &&
+				               (tw < 0 || p_.label[size_t(f)] != p_.label[size_t(heFace(tw))]);
+				if (b == bool(border_[size_t(h)]))
+					continue; // (the twin, seen first, already updated both)
+				border_[size_t(h)] = b;
+				if (tw >= 0)
+					border_[size_t(tw)] = b;
+				const int d = b ? 1 : -1;
+				degree_[size_t(t_.heFrom(h))] += d;
+				degree_[size_t(t_.heTo(h))] += d;
+				touch(t_.heFrom(h));
+				touch(t_.heTo(h));
+			}
+		for (int32_t v : lockedNow_)
+			if (bool(junction_[size_t(v)]) != isJunction(size_t(v)))
+				touch(v);
+		for (int32_t v : changedList_) {
+			junction_[size_t(v)] = isJunction(size_t(v));
+			keep_[size_t(v)] = junction_[size_t(v)]; // non-junctions: their piece is recomputed
+		}
 	}
 
 	// Rings of superface s: from a border half-edge, the next one starts at its end vertex and is
@@ -741,17 +781,15 @@ private:
 		groupFaces();
 		findBorders(patch);
 		dirty_.assign(p_.count(), patch ? 0 : 1);
-		if (patch)
-			for (size_t s = 0; s < p_.count(); ++s) {
-				const int32_t fb = sfStart_[s], fe = sfStart_[s + 1];
-				const int32_t f0 = sfFace_[size_t(fb)];
-				const Cached &c = prevCache_[size_t(prevLabel_[size_t(f0)])];
-				bool d = !c.ok || c.firstFace != f0 || c.faceCount != fe - fb;
-				for (int32_t i = fb; i < fe && !d; ++i)
-					for (int k = 0; k < 3; ++k)
-						d = d || changed_[size_t(t_.T[3 * sfFace_[size_t(i)] + k])];
-				dirty_[s] = d;
-			}
+		if (patch) { // split, failed, or around a changed vertex
+			for (int32_t f : relabeled_)
+				dirty_[size_t(p_.label[size_t(f)])] = 1;
+			for (int32_t f : failedFace_)
+				dirty_[size_t(p_.label[size_t(f)])] = 1;
+			for (int32_t v : changedList_)
+				for (int32_t q = t_.vfStart[size_t(v)]; q < t_.vfStart[size_t(v) + 1]; ++q)
+					dirty_[size_t(p_.label[size_t(t_.vfFace[size_t(q)])])] = 1;
+		}
 		ringHE_.clear();
 		ringStart_.clear();
 		sfRingStart_.assign(p_.count() + 1, 0);
@@ -918,9 +956,17 @@ private:
 	{
 		// sfStart_/sfFace_ are those of the round that just failed: labels have not changed yet
 		std::vector<uint8_t> split(p_.count(), 0);
+		relabeled_.clear(), failedFace_.clear(), lockedNow_.clear();
+		auto lock = [&](int32_t v) {
+			if (!extraLock_[size_t(v)]) {
+				extraLock_[size_t(v)] = 1;
+				lockedNow_.push_back(v);
+			}
+		};
 		for (const auto &sf : failed_) {
 			const int32_t s = sf.first;
 			const int32_t fb = sfStart_[size_t(s)], fe = sfStart_[size_t(s) + 1];
+			failedFace_.push_back(sfFace_[size_t(fb)]);
 			bool allLocked = true;
 			for (int32_t i = fb; i < fe; ++i)
 				for (int k = 0; k < 3; ++k) {
@@ -933,11 +979,11 @@ private:
 					for (int k = 0; k < 3; ++k) {
 						const int32_t h = 3 * sfFace_[size_t(i)] + k;
 						if (border_[size_t(h)])
-							extraLock_[size_t(t_.heFrom(h))] = 1;
+							lock(t_.heFrom(h));
 					}
 				if (fe - fb == 1)
 					for (int k = 0; k < 3; ++k)
-						extraLock_[size_t(t_.T[3 * sfFace_[size_t(fb)] + k])] = 1;
+						lock(t_.T[3 * sfFace_[size_t(fb)] + k]);
 			} else {
 				split[size_t(s)] = 1;
 			}
@@ -989,6 +1035,7 @@ private:
 					p_.origin.push_back(origin);
 				}
 				p_.label[size_t(f)] = id;
+				relabeled_.push_back(f);
 			}
 			for (int32_t c : touched)
 				childMap[size_t(c)] = -1;
