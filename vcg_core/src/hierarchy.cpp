@@ -95,13 +95,13 @@ void coarserPartition(const Topology &t, const Partition &fine, Partition &out)
 	std::vector<double> area(n, 0.0);
 	for (size_t f = 0; f < t.nF; ++f)
 		area[size_t(fine.label[f])] += t.faceArea[f];
-	std::vector<int32_t> order;
+	std::vector<std::pair<double, int32_t>> order; // (-area, superface): largest first, then by id
 	for (size_t s = 0; s < n; ++s)
 		if (group[s] < 0 && fine.cell[s] != kInvalidCell)
-			order.push_back(int32_t(s));
-	std::stable_sort(order.begin(), order.end(),
-	                 [&](int32_t a, int32_t b) { return area[size_t(a)] > area[size_t(b)]; });
-	for (int32_t s : order) {
+			order.emplace_back(-area[s], int32_t(s));
+	std::sort(order.begin(), order.end());
+	for (const auto &o : order) {
+		const int32_t s = o.second;
 		if (group[size_t(s)] >= 0)
 			continue;
 		const Cell c = unpackCell(fine.cell[size_t(s)]);

@@ -716,18 +716,32 @@ private:
 	// input had it right, comes from a re-triangulated superface: fail those superfaces.
 	void checkEdges()
 	{
-		// triangle corners k (edge k -> k+1) grouped by the edge's smaller vertex, then larger
-		const size_t nc = tris_.size();
+		// only an edge with both ends on new triangles can be a new problem: the triangle corners
+		// k (edge k -> k+1) of such edges, grouped by the edge's smaller vertex, then larger
+		std::vector<uint8_t> onNew(t_.nV, 0);
+		for (size_t k = 0; k < tris_.size(); ++k)
+			if (triNew_[k / 3])
+				onNew[size_t(tris_[k])] = 1;
 		auto other = [&](size_t k) { return tris_[k - k % 3 + (k % 3 + 1) % 3]; };
-		auto lo = [&](size_t k) { return std::min(tris_[k], other(k)); };
-		auto hi = [&](int32_t k) { return std::max(tris_[size_t(k)], other(size_t(k))); };
+		std::vector<int32_t> corner;
+		for (size_t k = 0; k < tris_.size(); ++k)
+			if (onNew[size_t(tris_[k])] && onNew[size_t(other(k))])
+				corner.push_back(int32_t(k));
+		auto lo = [&](size_t i) { return std::min(tris_[size_t(corner[i])], other(size_t(corner[i]))); };
+		auto hi = [&](int32_t i) {
+			return std::max(tris_[size_t(corner[size_t(i)])], other(size_t(corner[size_t(i)])));
+		};
 		std::vector<int32_t> start, order;
-		bucketSort(nc, t_.nV, lo, [&](int32_t i, int32_t j) { return hi(i) < hi(j); }, start, order);
+		bucketSort(corner.size(), t_.nV, lo, [&](int32_t i, int32_t j) { return hi(i) < hi(j); },
+		           start, order);
+		for (int32_t &o : order)
+			o = corner[size_t(o)]; // back to corner indices, still grouped and sorted
+		auto hiK = [&](int32_t k) { return std::max(tris_[size_t(k)], other(size_t(k))); };
 		std::vector<uint8_t> bad(p_.count(), 0);
 		for (size_t v = 0; v < t_.nV; ++v) {
 			for (int32_t i = start[v]; i < start[v + 1];) {
 				int32_t j = i + 1;
-				while (j < start[v + 1] && hi(order[size_t(j)]) == hi(order[size_t(i)]))
+				while (j < start[v + 1] && hiK(order[size_t(j)]) == hiK(order[size_t(i)]))
 					++j;
 				const size_t cnt = size_t(j - i);
 				bool anyNew = false;
@@ -741,7 +755,7 @@ private:
 					const bool sameDir = cnt == 2 && reversed(i) == reversed(i + 1);
 					if (cnt > 2 || sameDir) {
 						int inputCnt = 0, inputFwd = 0;
-						const int32_t a = int32_t(v), b = hi(order[size_t(i)]);
+						const int32_t a = int32_t(v), b = hiK(order[size_t(i)]);
 						for (int32_t q = t_.vfStart[size_t(a)]; q < t_.vfStart[size_t(a) + 1]; ++q)
 							for (int k = 0; k < 3; ++k) {
 								const int32_t h = 3 * t_.vfFace[size_t(q)] + k;
