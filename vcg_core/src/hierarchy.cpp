@@ -104,6 +104,13 @@ void coarserPartition(const Topology &t, const Partition &fine, Partition &out)
 		const int32_t s = o.second;
 		if (group[size_t(s)] >= 0)
 			continue;
+		bool open = false; // any neighbour left to absorb? (else skip the neighbourhood)
+		for (int32_t i = start[size_t(s)]; i < start[size_t(s) + 1] && !open; ++i)
+			open = group[size_t(adj[size_t(i)])] < 0 && fine.cell[size_t(adj[size_t(i)])] != kInvalidCell;
+		if (!open) {
+			grow(s, [](CellKey) { return false; });
+			continue;
+		}
 		const Cell c = unpackCell(fine.cell[size_t(s)]);
 		Cell nb[8];
 		const int cnt = cellNeighbours(c, fine.level, nb);
