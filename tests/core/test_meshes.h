@@ -280,4 +280,55 @@ inline size_t flippedFaces(const gausslod::FlatMesh &input, const gausslod::Leve
 	return flipped;
 }
 
+/// Output faces whose normal points away (>90 deg) from the nearest input face, over all input
+/// faces (brute force; ties between faces at the same distance count as facing if any of them
+/// faces the output face), as the benchmark measures "flipped".
+inline size_t facesAwayFromNearestInput(const gausslod::FlatMesh &input, const gausslod::LevelMesh &level)
+{
+	size_t flipped = 0;
+	const size_t nIn = input.triangles.size() / 3;
+	std::vector<Vec3> center(nIn);
+	std::vector<double> radius(nIn);
+	for (size_t f = 0; f < nIn; ++f) { // bounding spheres, to skip far faces
+		const Vec3 p0 = vpos(input.positions, input.triangles[3 * f]);
+		const Vec3 p1 = vpos(input.positions, input.triangles[3 * f + 1]);
+		const Vec3 p2 = vpos(input.positions, input.triangles[3 * f + 2]);
+		center[f] = (p0 + p1 + p2) / 3.0;
+		radius[f] = std::max((p0 - center[f]).Norm(), std::max((p1 - center[f]).Norm(), (p2 - center[f]).Norm()));
+	}
+	for (size_t t = 0; t < level.triangles.size() / 3; ++t) {
+		const Vec3 a = vpos(level.positions, level.triangles[3 * t]);
+		const Vec3 b = vpos(level.positions, level.triangles[3 * t + 1]);
+		const Vec3 c = vpos(level.positions, level.triangles[3 * t + 2]);
+		const Vec3 n = (b - a) ^ (c - a);
+		const Vec3 centroid = (a + b + c) / 3.0;
+		double best = HUGE_VAL;
+		bool facing = false;
+		for (size_t f = 0; f < nIn; ++f) {
+			if ((center[f] - centroid).Norm() - radius[f] > best * (1 + 1e-6))
+				continue;
+			const Vec3 p0 = vpos(input.positions, input.triangles[3 * f]);
+			const Vec3 p1 = vpos(input.positions, input.triangles[3 * f + 1]);
+			const Vec3 p2 = vpos(input.positions, input.triangles[3 * f + 2]);
+			const Vec3 fn = (p1 - p0) ^ (p2 - p0);
+			if (!(fn.Norm() > 0))
+				continue;
+			vcg::Triangle3<double> tri(p0, p1, p2);
+			Vec3 closest;
+			double dist = HUGE_VAL;
+			vcg::TrianglePointDistance(tri, centroid, dist, closest);
+			const double tol = std::isfinite(best) ? 1e-9 * best : 0.0;
+			if (!std::isfinite(best) || dist < best - tol) {
+				best = dist;
+				facing = n.dot(fn) >= 0;
+			} else if (dist <= best + tol) {
+				facing = facing || n.dot(fn) >= 0;
+			}
+		}
+		if (!facing)
+			++flipped;
+	}
+	return flipped;
+}
+
 } // namespace testmesh

@@ -8,6 +8,7 @@
 #include <vcg/space/point3.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -50,6 +51,69 @@ void bucketSort(size_t n, size_t nKeys, KeyFn key, Less less, std::vector<int32_
 	}
 }
 
+/// Squared distance from p to triangle (a, b, c) (closest point by Voronoi regions).
+inline double pointTriangleDistance2(const Vec3 &p, const Vec3 &a, const Vec3 &b, const Vec3 &c)
+{
+	const Vec3 ab = b - a, ac = c - a, ap = p - a;
+	const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+	if (d1 <= 0 && d2 <= 0)
+		return ap.SquaredNorm();
+	const Vec3 bp = p - b;
+	const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+	if (d3 >= 0 && d4 <= d3)
+		return bp.SquaredNorm();
+	const double vc = d1 * d4 - d3 * d2;
+	if (vc <= 0 && d1 >= 0 && d3 <= 0)
+		return (ap - ab * (d1 / (d1 - d3))).SquaredNorm();
+	const Vec3 cp = p - c;
+	const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+	if (d6 >= 0 && d5 <= d6)
+		return cp.SquaredNorm();
+	const double vb = d5 * d2 - d1 * d6;
+	if (vb <= 0 && d2 >= 0 && d6 <= 0)
+		return (ap - ac * (d2 / (d2 - d6))).SquaredNorm();
+	const double va = d3 * d6 - d5 * d4;
+	if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+		return (bp - (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))).SquaredNorm();
+	const double den = 1.0 / (va + vb + vc);
+	return (ap - ab * (vb * den) - ac * (vc * den)).SquaredNorm();
+}
+
+/// Hashed uniform grid over the valid input faces (each listed in every cell its bounding box
+/// meets; cells hashed into buckets, so a bucket may also hold faces of other cells), for "which
+/// input faces are near this point" queries.
+struct FaceGrid {
+	double lo[3] = {0, 0, 0};
+	double cell = 1;
+	uint64_t mask = 0;                ///< buckets - 1 (a power of two)
+	std::vector<int32_t> start, face; ///< bucket -> faces (CSR)
+
+	static uint64_t bucketOf(int64_t x, int64_t y, int64_t z, uint64_t mask)
+	{
+		const uint64_t h = uint64_t(x) * 73856093u ^ uint64_t(y) * 19349663u ^ uint64_t(z) * 83492791u;
+		return (h ^ (h >> 29)) & mask;
+	}
+	int64_t index(double x, int k) const { return int64_t(std::floor((x - lo[k]) / cell)); }
+
+	/// Calls fn(face) for the faces listed in the buckets of the cells that meet the box [a, b]
+	/// (a face may come more than once; faces of other cells may come too).
+	template <class Fn>
+	void forBox(const Vec3 &a, const Vec3 &b, Fn fn) const
+	{
+		if (start.size() < 2)
+			return;
+		const int64_t x0 = index(a[0], 0), x1 = index(b[0], 0), y0 = index(a[1], 1),
+		              y1 = index(b[1], 1), z0 = index(a[2], 2), z1 = index(b[2], 2);
+		for (int64_t z = z0; z <= z1; ++z)
+			for (int64_t y = y0; y <= y1; ++y)
+				for (int64_t x = x0; x <= x1; ++x) {
+					const uint64_t c = bucketOf(x, y, z, mask);
+					for (int32_t i = start[c]; i < start[c + 1]; ++i)
+						fn(face[size_t(i)]);
+				}
+	}
+};
+
 enum VertexClass : uint8_t { kFlat = 0, kEdge = 1, kCorner = 2 }; // = importance (2.3.2)
 
 /// Everything derived once from the input mesh.
@@ -73,6 +137,7 @@ struct Topology {
 	std::vector<uint8_t> vertexLocked;
 	std::vector<uint8_t> vertexClass; ///< VertexClass (2.3.2)
 	std::vector<int32_t> vfStart, vfFace; ///< vertex -> incident faces (CSR)
+	FaceGrid grid;                        ///< the valid faces, for nearest-face queries
 
 	Vec3 pos(int32_t v) const { return Vec3(P[3 * v], P[3 * v + 1], P[3 * v + 2]); }
 	int32_t heFrom(int32_t h) const { return T[h]; }

@@ -83,7 +83,8 @@ struct ChunkOut {
 struct Scratch {
 	TriangulationJob job;
 	std::vector<int32_t> ringVerts, ringVertStart, seq, stack, outline;
-	std::vector<Vec3> triNormal;
+	std::vector<Vec3> triNormal, centroid;
+	std::vector<double> ownDist2;
 	std::vector<uint8_t> covered;
 };
 
@@ -670,6 +671,16 @@ private:
 			tn[k] = n / n.Norm();
 		}
 		w.covered.assign(ntri, 0);
+		w.centroid.resize(ntri);
+		w.ownDist2.assign(ntri, HUGE_VAL);
+		for (size_t k = 0; k < ntri; ++k) {
+			const int32_t *v = &o.tris[3 * (firstTri + k)];
+			w.centroid[k] = (t_.pos(v[0]) + t_.pos(v[1]) + t_.pos(v[2])) / 3.0;
+		}
+		auto faceDist2 = [&](const Vec3 &p, int32_t f) {
+			return pointTriangleDistance2(p, t_.pos(t_.T[3 * f]), t_.pos(t_.T[3 * f + 1]),
+			                              t_.pos(t_.T[3 * f + 2]));
+		};
 		for (int32_t i = fb; i < fe; ++i) {
 			const int32_t f = sfFace_[size_t(i)];
 			const int32_t k = ntri == 1 ? 0 : w.job.queryTri[size_t(i - fb)];
@@ -680,6 +691,7 @@ private:
 				return Failure::Ring;
 			faceDev_[size_t(f)] = d;
 			w.covered[size_t(k)] = 1;
+			w.ownDist2[size_t(k)] = std::min(w.ownDist2[size_t(k)], faceDist2(w.centroid[size_t(k)], f));
 		}
 		// a triangle that covers no input face centroid is checked against the faces of the
 		// superface around its corners
@@ -690,10 +702,43 @@ private:
 				const int32_t v = o.tris[3 * (firstTri + k) + size_t(c)];
 				for (int32_t q = t_.vfStart[size_t(v)]; q < t_.vfStart[size_t(v) + 1]; ++q) {
 					const int32_t f = t_.vfFace[size_t(q)];
-					if (p_.label[size_t(f)] == s && t_.faceNormal[size_t(f)].dot(tn[k]) < 0)
+					if (p_.label[size_t(f)] != s)
+						continue;
+					if (t_.faceNormal[size_t(f)].dot(tn[k]) < 0)
 						return Failure::Ring;
+					w.ownDist2[k] = std::min(w.ownDist2[k], faceDist2(w.centroid[k], f));
 				}
 			}
+		}
+		// the input surface nearest to a triangle's centroid must not face away from it (as at a
+		// thin part, where a straightened border can bring one side next to the other side)
+		for (size_t k = 0; k < ntri; ++k) {
+			const double r2 = w.ownDist2[k];
+			if (!(r2 > 0) || !std::isfinite(r2))
+				continue; // on its own faces (or nothing to compare with)
+			const double r = std::sqrt(r2);
+			const Vec3 &c = w.centroid[k];
+			// nearest face facing away (normals first: distances only for those)
+			double away = r2 * (1 - 1e-9);
+			bool anyAway = false;
+			t_.grid.forBox(c - Vec3(r, r, r), c + Vec3(r, r, r), [&](int32_t g) {
+				if (t_.faceNormal[size_t(g)].dot(tn[k]) < 0) {
+					const double d2 = faceDist2(c, g);
+					if (d2 < away)
+						away = d2, anyAway = true;
+				}
+			});
+			if (!anyAway)
+				continue;
+			// flipped unless a face facing it is as near (ties: an edge or vertex both touch)
+			const double ra = std::sqrt(away) * (1 + 1e-9);
+			bool facing = false;
+			t_.grid.forBox(c - Vec3(ra, ra, ra), c + Vec3(ra, ra, ra), [&](int32_t g) {
+				if (!facing && t_.faceNormal[size_t(g)].dot(tn[k]) >= 0)
+					facing = faceDist2(c, g) <= away * (1 + 1e-9);
+			});
+			if (!facing)
+				return Failure::Ring;
 		}
 		++o.retriangulated;
 		return Failure::None;

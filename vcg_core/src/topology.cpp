@@ -227,6 +227,81 @@ void classifyVertices(Topology &t, double thresholdDeg)
 	}
 }
 
+// Cells about twice the mean face extent (larger if the faces would be listed more than ~8 times
+// each on average), about two buckets per listed face.
+void buildGrid(Topology &t)
+{
+	FaceGrid &g = t.grid;
+	g.start.assign(1, 0);
+	g.face.clear();
+	double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, extent = 0;
+	size_t valid = 0;
+	auto box = [&](size_t f, double a[3], double b[3]) {
+		for (int k = 0; k < 3; ++k) {
+			a[k] = HUGE_VAL, b[k] = -HUGE_VAL;
+			for (int c = 0; c < 3; ++c) {
+				const double x = t.P[3 * size_t(t.T[3 * f + size_t(c)]) + size_t(k)];
+				a[k] = std::min(a[k], x), b[k] = std::max(b[k], x);
+			}
+		}
+	};
+	for (size_t f = 0; f < t.nF; ++f) {
+		if (!t.faceValid[f])
+			continue;
+		++valid;
+		double a[3], b[3];
+		box(f, a, b);
+		for (int k = 0; k < 3; ++k)
+			lo[k] = std::min(lo[k], a[k]);
+		extent += std::max(b[0] - a[0], std::max(b[1] - a[1], b[2] - a[2]));
+	}
+	if (valid == 0)
+		return;
+	for (int k = 0; k < 3; ++k)
+		g.lo[k] = lo[k];
+	g.cell = extent > 0 ? 2.0 * extent / double(valid) : (t.diagonal > 0 ? t.diagonal : 1.0);
+	// every coordinate is >= lo: truncation is floor
+	auto cells = [&](size_t f, double inv, auto fn) {
+		double a[3], b[3];
+		box(f, a, b);
+		int64_t i0[3], i1[3];
+		for (int k = 0; k < 3; ++k)
+			i0[k] = int64_t((a[k] - lo[k]) * inv), i1[k] = int64_t((b[k] - lo[k]) * inv);
+		for (int64_t z = i0[2]; z <= i1[2]; ++z)
+			for (int64_t y = i0[1]; y <= i1[1]; ++y)
+				for (int64_t x = i0[0]; x <= i1[0]; ++x)
+					fn(x, y, z);
+	};
+	size_t buckets = 1;
+	while (buckets < 4 * valid)
+		buckets <<= 1;
+	for (;;) { // count per bucket; cells grow while faces are listed more than ~4 times each
+		const double inv = 1.0 / g.cell;
+		g.mask = buckets - 1;
+		g.start.assign(buckets + 1, 0);
+		size_t entries = 0;
+		for (size_t f = 0; f < t.nF && entries <= 4 * valid + 64; ++f)
+			if (t.faceValid[f])
+				cells(f, inv, [&](int64_t x, int64_t y, int64_t z) {
+					++g.start[FaceGrid::bucketOf(x, y, z, g.mask) + 1];
+					++entries;
+				});
+		if (entries <= 4 * valid + 64)
+			break;
+		g.cell *= 1.5;
+	}
+	for (size_t c = 0; c < buckets; ++c)
+		g.start[c + 1] += g.start[c];
+	g.face.resize(size_t(g.start[buckets]));
+	std::vector<int32_t> fill(g.start.begin(), g.start.end() - 1);
+	const double inv = 1.0 / g.cell;
+	for (size_t f = 0; f < t.nF; ++f)
+		if (t.faceValid[f])
+			cells(f, inv, [&](int64_t x, int64_t y, int64_t z) {
+				g.face[size_t(fill[FaceGrid::bucketOf(x, y, z, g.mask)]++)] = int32_t(f);
+			});
+}
+
 } // namespace
 
 void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &t)
@@ -241,6 +316,7 @@ void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &t)
 	buildTwins(t);
 	lockNonManifoldVertices(t);
 	classifyVertices(t, featureAngleDeg);
+	buildGrid(t);
 }
 
 } // namespace detail
