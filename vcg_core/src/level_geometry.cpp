@@ -71,6 +71,12 @@ struct ChunkOut {
 	std::vector<std::pair<int32_t, Failure>> failed;
 	std::vector<Piece> straight; ///< pieces left straight (see separateParallelChains)
 	size_t retriangulated = 0;
+	void swap(ChunkOut &o)
+	{
+		tris.swap(o.tris), triSf.swap(o.triSf), outlines.swap(o.outlines);
+		triBorder.swap(o.triBorder), triNew.swap(o.triNew), failed.swap(o.failed);
+		straight.swap(o.straight), std::swap(retriangulated, o.retriangulated);
+	}
 	void clear()
 	{
 		tris.clear(), triSf.clear(), outlines.clear(), triBorder.clear(), triNew.clear();
@@ -148,7 +154,7 @@ private:
 	// output of a round
 	std::vector<int32_t> tris_, triSf_;
 	std::vector<uint8_t> triBorder_, triNew_;
-	std::vector<double> faceDev_;             // per input face, -1 = not measured
+	std::vector<float> faceDev_;              // per input face, degrees; -1 = not measured
 	size_t retriangulated_ = 0;
 	// work split in chunks of consecutive superfaces, run on threads_ threads
 	size_t threads_ = 1;
@@ -689,7 +695,7 @@ private:
 			const double d = angleDeg(t_.faceNormal[size_t(f)], tn[size_t(k)]);
 			if (d > 90 || d > devLimit_)
 				return Failure::Ring;
-			faceDev_[size_t(f)] = d;
+			faceDev_[size_t(f)] = float(d);
 			w.covered[size_t(k)] = 1;
 			w.ownDist2[size_t(k)] = std::min(w.ownDist2[size_t(k)], faceDist2(w.centroid[size_t(k)], f));
 		}
@@ -836,7 +842,7 @@ private:
 		failed_.clear();
 		tris_.clear(), triSf_.clear(), triBorder_.clear(), triNew_.clear();
 		retriangulated_ = 0;
-		faceDev_.assign(t_.nF, -1.0);
+		faceDev_.assign(t_.nF, -1.0f);
 		groupFaces();
 		findBorders(patch);
 		dirty_.assign(p_.count(), patch ? 0 : 1);
@@ -878,10 +884,16 @@ private:
 			for (int32_t sf = chunkStart_[c]; sf < chunkStart_[c + 1]; ++sf)
 				buildSuperface(sf, w, chunks_[c]);
 		});
-		// concatenate the chunks (offsets in cache_ were chunk-relative)
+		// concatenate the chunks (offsets in cache_ were chunk-relative), freeing each one once
+		// appended (together they would double the level's peak memory)
+		size_t nt = 0, no = 0;
+		for (const ChunkOut &o : chunks_)
+			nt += o.triSf.size(), no += o.outlines.size();
+		tris_.reserve(3 * nt), triSf_.reserve(nt), triBorder_.reserve(nt), triNew_.reserve(nt);
 		cachedOutlines_.clear();
+		cachedOutlines_.reserve(no);
 		for (size_t c = 0; c < chunks_.size(); ++c) {
-			const ChunkOut &o = chunks_[c];
+			ChunkOut &o = chunks_[c];
 			const int32_t triBase = int32_t(triSf_.size()), outBase = int32_t(cachedOutlines_.size());
 			for (int32_t sf = chunkStart_[c]; sf < chunkStart_[c + 1]; ++sf) {
 				Cached &cc = cache_[size_t(sf)];
@@ -895,6 +907,7 @@ private:
 			cachedOutlines_.insert(cachedOutlines_.end(), o.outlines.begin(), o.outlines.end());
 			failed_.insert(failed_.end(), o.failed.begin(), o.failed.end());
 			retriangulated_ += o.retriangulated;
+			ChunkOut().swap(o);
 		}
 		out_.stats.secondsTriangulation += clock_.lap();
 		if (failed_.empty())
@@ -966,7 +979,7 @@ private:
 	std::vector<Cached> prevCache_, cache_;
 	std::vector<int32_t> prevLabel_, prevTris_, prevOutlines_, cachedOutlines_;
 	std::vector<uint8_t> prevTriBorder_, prevTriNew_;
-	std::vector<double> prevFaceDev_;
+	std::vector<float> prevFaceDev_;
 
 	// The kept vertices of every ring of s, rings separated by -1.
 	void keptOutline(int32_t s, std::vector<int32_t> &out) const
@@ -1144,8 +1157,8 @@ private:
 				++unmeasured;
 				continue;
 			}
-			maxDev = std::max(maxDev, faceDev_[f]);
-			sum += faceDev_[f] * t_.faceArea[f];
+			maxDev = std::max(maxDev, double(faceDev_[f]));
+			sum += double(faceDev_[f]) * t_.faceArea[f];
 			area += t_.faceArea[f];
 		}
 		st.maxNormalDevDeg = maxDev;

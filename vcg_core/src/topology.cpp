@@ -273,7 +273,7 @@ void buildGrid(Topology &t)
 					fn(x, y, z);
 	};
 	size_t buckets = 1;
-	while (buckets < 4 * valid)
+	while (buckets < valid)
 		buckets <<= 1;
 	for (;;) { // count per bucket; cells grow while faces are listed more than ~4 times each
 		const double inv = 1.0 / g.cell;
