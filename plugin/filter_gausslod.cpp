@@ -106,6 +106,7 @@ bool readRequest(const RichParameterList &par, double diag, FilterRequest &req, 
 		error = QString("Normal deviation limit must be >= 0 (got %1).").arg(p.deviationFactor);
 		return false;
 	}
+	p.mergeAcrossCells = par.getBool("acrossCells");
 	req.colourSuperfaces = par.getBool("colourSuperfaces");
 	req.fauxEdges = par.getBool("fauxEdges");
 	return true;
@@ -273,6 +274,13 @@ void FilterGaussLodPlugin::initParameterSet(QAction *a, MeshModel &m, RichParame
 		    "output triangle covering it is retried with its border kept, then split into finer "
 		    "superfaces. 1 = the paper's bound (default); larger values simplify more; 0 = no "
 		    "limit (only flipped triangles are refused)."));
+		par.addParam(RichBool(
+		    "acrossCells", true, "Merge across cell borders",
+		    "Beyond the paper: also merge neighbouring superfaces of different Gauss-sphere "
+		    "cells when all their face normals stay within the level's bound of each other (and "
+		    "within the feature angle, so sharp edges stay sharp). Fewer faces on near-flat or "
+		    "slightly noisy regions that a cell border would cut. Off = the paper's superfaces "
+		    "(faces of one cell only)."));
 		par.addParam(RichBool("colourSuperfaces", true, "Colour faces by superface",
 		                      "Give every superface of an output level its own per-face colour."));
 		par.addParam(RichBool(

@@ -29,6 +29,8 @@ void usage()
 	             "  --feature-angle D   vertex-class threshold, degrees (30)\n"
 	             "  --straighten P      border straightening tolerance, %% of bbox diagonal (0.5)\n"
 	             "  --merge P           vicinity merge distance, %% of bbox diagonal (0.25)\n"
+	             "  --paper-superfaces  superfaces within one Gauss-sphere cell only, as in the paper\n"
+	             "                      (default: also merge across cell borders within the bound)\n"
 	             "  --threads N         worker threads, 0 = one per core (0); same output for any N\n"
 	             "  --no-colour         do not colour faces by superface\n"
 	             "  --json              one JSON line per level instead of the table\n"
@@ -69,6 +71,8 @@ int main(int argc, char **argv)
 			value(straightenPct);
 		} else if (a == "--merge") {
 			value(mergePct);
+		} else if (a == "--paper-superfaces") {
+			params.mergeAcrossCells = false;
 		} else if (a == "--threads") {
 			value(v);
 			params.threads = int(v);

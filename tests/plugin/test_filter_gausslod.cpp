@@ -227,8 +227,9 @@ TEST_F(GaussLodPlugin, declares_itself_as_a_single_mesh_remeshing_filter)
 	MeshDocument md;
 	loadOffLayer(md, dataFile("cow.off"));
 	const RichParameterList par = defaults(md);
-	const QStringList expected = {"maxLevel",  "outputLevels", "featureAngle",     "straightenTol",
-	                              "mergeDist", "normalLimit",  "colourSuperfaces", "fauxEdges"};
+	const QStringList expected = {"maxLevel",    "outputLevels", "featureAngle",
+	                              "straightenTol", "mergeDist",  "normalLimit",
+	                              "acrossCells", "colourSuperfaces", "fauxEdges"};
 	EXPECT_EQ(par.size(), unsigned(expected.size()));
 	for (const QString &name : expected)
 		EXPECT_TRUE(par.hasParameter(name)) << qUtf8Printable(name);
@@ -239,6 +240,7 @@ TEST_F(GaussLodPlugin, declares_itself_as_a_single_mesh_remeshing_filter)
 	EXPECT_NEAR(par.getAbsPerc("straightenTol"), 0.005f * diag, 1e-6f * diag);
 	EXPECT_NEAR(par.getAbsPerc("mergeDist"), 0.0025f * diag, 1e-6f * diag);
 	EXPECT_FLOAT_EQ(par.getFloat("normalLimit"), 1.0f);
+	EXPECT_TRUE(par.getBool("acrossCells"));
 	EXPECT_TRUE(par.getBool("colourSuperfaces"));
 	EXPECT_TRUE(par.getBool("fauxEdges"));
 }
@@ -314,6 +316,28 @@ TEST_F(GaussLodPlugin, output_levels_selects_the_layers_and_options_are_honoured
 		EXPECT_FALSE(md.meshList.at(i)->hasDataMask(MeshModel::MM_FACECOLOR));
 		EXPECT_FALSE(hasFauxEdge(md.meshList.at(i)->cm));
 	}
+}
+
+TEST_F(GaussLodPlugin, merging_across_cell_borders_only_removes_faces)
+{
+	// off = the paper's superfaces: the finest level of the noisy-free fandisk keeps the splits
+	// that cell borders cut through its curved patches; on merges them within the bound
+	int faces[2];
+	for (int across = 0; across < 2; ++across) {
+		MeshDocument md;
+		MeshModel *input = loadOffLayer(md, dataFile("fandisk.off"));
+		const LayerSnapshot before(*input);
+		RichParameterList par = defaults(md);
+		par.setValue("maxLevel", IntValue(3));
+		par.setValue("outputLevels", StringValue("2"));
+		par.setValue("acrossCells", BoolValue(across == 1));
+		ASSERT_TRUE(apply(md, par)) << qUtf8Printable(filter->errorMsg());
+		EXPECT_TRUE(LayerSnapshot(*input) == before);
+		ASSERT_EQ(md.size(), 2);
+		faces[across] = md.meshList.at(1)->cm.fn;
+	}
+	EXPECT_LT(faces[1], faces[0]);
+	EXPECT_GT(faces[1], 12); // curved patches stay curved
 }
 
 TEST_F(GaussLodPlugin, mesh_without_vertices_or_faces_is_rejected)

@@ -57,6 +57,12 @@ struct Params {
 	/// Vicinity merge distance (paper 2.3.2), absolute: consecutive border vertices closer than this
 	/// merge (less important into more important; corners only receive). 0 = no merging.
 	double mergeDistance = 0.0;
+	/// Beyond the paper: also merge adjacent superfaces of different (neighbouring) cells when all
+	/// their face normals still lie within the level's bound of each other (as inside one cell)
+	/// and within the feature angle (no sharp feature inside a merged superface). Removes the
+	/// splits that cell borders cut through near-flat or slightly noisy regions.
+	/// false = the paper's superfaces (faces of one cell only).
+	bool mergeAcrossCells = true;
 	/// Worker threads for the per-superface work; 0 = one per core. The output does not depend
 	/// on it.
 	int threads = 0;

@@ -164,6 +164,12 @@ void finestPartition(const Topology &topo, int level, Partition &out);
 /// 2.5 Merges superfaces of sibling cells of `fine` into the partition of level fine.level-1.
 void coarserPartition(const Topology &topo, const Partition &fine, Partition &out);
 
+/// Beyond the paper: merges adjacent superfaces whose normals together still fit in a cone of
+/// angular diameter boundDeg (at most what one cell of the level holds), across cell borders; a merged
+/// superface keeps the cell of its largest part and gets origin `mergedOrigin` (the level whose
+/// partition holds its parts).
+void mergeAcrossCells(const Topology &topo, double boundDeg, Partition &p, int8_t mergedOrigin);
+
 /// Renumbers labels by first face (deterministic ids) and drops unused superfaces.
 void canonicalize(Partition &p);
 

@@ -141,5 +141,97 @@ void coarserPartition(const Topology &t, const Partition &fine, Partition &out)
 	canonicalize(out);
 }
 
+void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p, int8_t mergedOrigin)
+{
+	const size_t n = p.count();
+	if (n < 2)
+		return;
+	// per superface: area, area-weighted mean normal, and the cone around it holding its normals
+	std::vector<double> area(n, 0.0), radius(n, 0.0);
+	std::vector<Vec3> mean(n, Vec3(0, 0, 0));
+	for (size_t f = 0; f < t.nF; ++f) {
+		const size_t s = size_t(p.label[f]);
+		area[s] += t.faceArea[f];
+		mean[s] += t.faceNormal[f] * t.faceArea[f];
+	}
+	for (size_t s = 0; s < n; ++s)
+		if (mean[s].Norm() > 0)
+			mean[s].Normalize();
+	auto angle = [](const Vec3 &a, const Vec3 &b) {
+		return std::acos(std::max(-1.0, std::min(1.0, a.dot(b))));
+	};
+	for (size_t f = 0; f < t.nF; ++f)
+		if (t.faceValid[f]) {
+			const size_t s = size_t(p.label[f]);
+			radius[s] = std::max(radius[s], angle(mean[s], t.faceNormal[f]));
+		}
+	const double limit = 0.5 * boundDeg * 3.14159265358979323846 / 180.0; // cone half-angle
+	std::vector<int32_t> start, adj;
+	superfaceAdjacency(t, p, start, adj);
+	std::vector<std::pair<double, std::pair<int32_t, int32_t>>> pairs;
+	for (size_t s = 0; s < n; ++s) {
+		if (p.cell[s] == kInvalidCell || !(mean[s].Norm() > 0))
+			continue;
+		for (int32_t i = start[s]; i < start[s + 1]; ++i) {
+			const int32_t w = adj[size_t(i)];
+			if (int32_t(s) >= w || p.cell[size_t(w)] == kInvalidCell || !(mean[size_t(w)].Norm() > 0))
+				continue;
+			const double a = angle(mean[s], mean[size_t(w)]);
+			if (a + radius[s] + radius[size_t(w)] <= 2 * limit + 1e-12)
+				pairs.push_back({a, {int32_t(s), w}});
+		}
+	}
+	if (pairs.empty())
+		return;
+	std::sort(pairs.begin(), pairs.end());
+	// greedy union, closest mean normals first; a union keeps its normals in a cone of half-angle
+	// `limit` (any two within the level's bound, as inside one cell)
+	std::vector<int32_t> parent(n), members(n, 1);
+	for (size_t s = 0; s < n; ++s)
+		parent[s] = int32_t(s);
+	auto find = [&](int32_t s) {
+		while (parent[size_t(s)] != s)
+			s = parent[size_t(s)] = parent[size_t(parent[size_t(s)])];
+		return s;
+	};
+	std::vector<CellKey> cell = p.cell;
+	std::vector<double> seedArea = area;
+	for (const auto &pr : pairs) {
+		const int32_t a = find(pr.second.first), b = find(pr.second.second);
+		if (a == b)
+			continue;
+		Vec3 m = mean[size_t(a)] * area[size_t(a)] + mean[size_t(b)] * area[size_t(b)];
+		if (!(m.Norm() > 0))
+			continue;
+		m.Normalize();
+		const double r = std::max(angle(m, mean[size_t(a)]) + radius[size_t(a)],
+		                          angle(m, mean[size_t(b)]) + radius[size_t(b)]);
+		if (r > limit)
+			continue;
+		// the root keeps the cell of the larger original superface
+		const int32_t root = a < b ? a : b, other = a < b ? b : a;
+		parent[size_t(other)] = root;
+		if (seedArea[size_t(other)] > seedArea[size_t(root)]) {
+			cell[size_t(root)] = cell[size_t(other)];
+			seedArea[size_t(root)] = seedArea[size_t(other)];
+		}
+		mean[size_t(root)] = m;
+		radius[size_t(root)] = r;
+		area[size_t(root)] += area[size_t(other)];
+		members[size_t(root)] += members[size_t(other)];
+	}
+	for (size_t s = 0; s < n; ++s) {
+		const int32_t r = find(int32_t(s));
+		if (r == int32_t(s)) {
+			p.cell[s] = cell[s];
+			if (members[s] > 1)
+				p.origin[s] = mergedOrigin;
+		}
+	}
+	for (int32_t &l : p.label)
+		l = find(l);
+	canonicalize(p);
+}
+
 } // namespace detail
 } // namespace gausslod
