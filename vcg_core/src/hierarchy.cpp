@@ -146,6 +146,8 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p, int8_t m
 	const size_t n = p.count();
 	if (n < 2)
 		return;
+	const double limit = 0.5 * boundDeg * 3.14159265358979323846 / 180.0; // cone half-angle
+	auto angle = [](double cosine) { return std::acos(std::max(-1.0, std::min(1.0, cosine))); };
 	// per superface: area, area-weighted mean normal, and the cone around it holding its normals
 	std::vector<double> area(n, 0.0), radius(n, 0.0);
 	std::vector<Vec3> mean(n, Vec3(0, 0, 0));
@@ -157,77 +159,105 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p, int8_t m
 	for (size_t s = 0; s < n; ++s)
 		if (mean[s].Norm() > 0)
 			mean[s].Normalize();
-	auto angle = [](const Vec3 &a, const Vec3 &b) {
-		return std::acos(std::max(-1.0, std::min(1.0, a.dot(b))));
-	};
-	for (size_t f = 0; f < t.nF; ++f)
-		if (t.faceValid[f]) {
-			const size_t s = size_t(p.label[f]);
-			radius[s] = std::max(radius[s], angle(mean[s], t.faceNormal[f]));
-		}
-	const double limit = 0.5 * boundDeg * 3.14159265358979323846 / 180.0; // cone half-angle
+	{
+		std::vector<double> minDot(n, 1.0);
+		for (size_t f = 0; f < t.nF; ++f)
+			if (t.faceValid[f]) {
+				const size_t s = size_t(p.label[f]);
+				minDot[s] = std::min(minDot[s], mean[s].dot(t.faceNormal[f]));
+			}
+		for (size_t s = 0; s < n; ++s)
+			radius[s] = minDot[s] < 1.0 ? angle(minDot[s]) : 0.0;
+	}
+	// candidate pairs: adjacent, and their cones fit in one of half-angle `limit`
 	std::vector<int32_t> start, adj;
 	superfaceAdjacency(t, p, start, adj);
-	std::vector<std::pair<double, std::pair<int32_t, int32_t>>> pairs;
+	struct Pair {
+		int32_t a, b;
+		double dot;
+	};
+	std::vector<Pair> pairs;
 	for (size_t s = 0; s < n; ++s) {
-		if (p.cell[s] == kInvalidCell || !(mean[s].Norm() > 0))
+		if (p.cell[s] == kInvalidCell || !(mean[s].Norm() > 0) || radius[s] > limit)
 			continue;
 		for (int32_t i = start[s]; i < start[s + 1]; ++i) {
 			const int32_t w = adj[size_t(i)];
 			if (int32_t(s) >= w || p.cell[size_t(w)] == kInvalidCell || !(mean[size_t(w)].Norm() > 0))
 				continue;
-			const double a = angle(mean[s], mean[size_t(w)]);
-			if (a + radius[s] + radius[size_t(w)] <= 2 * limit + 1e-12)
-				pairs.push_back({a, {int32_t(s), w}});
+			const double room = 2 * limit - radius[s] - radius[size_t(w)];
+			const double d = mean[s].dot(mean[size_t(w)]);
+			if (room >= 0 && d >= std::cos(room) - 1e-15)
+				pairs.push_back(Pair{int32_t(s), w, d});
 		}
 	}
 	if (pairs.empty())
 		return;
-	std::sort(pairs.begin(), pairs.end());
-	// greedy union, closest mean normals first; a union keeps its normals in a cone of half-angle
-	// `limit` (any two within the level's bound, as inside one cell)
-	std::vector<int32_t> parent(n), members(n, 1);
+	// closest mean normals first (stable counting sort on the quantized angle)
+	const double span = 1.0 - std::cos(2 * limit) + 1e-12;
+	constexpr size_t kBuckets = 16; // (few: pairs keep their memory order inside a bucket)
+	std::vector<int32_t> bstart, order;
+	bucketSort(
+	    pairs.size(), kBuckets,
+	    [&](size_t i) {
+		    const double x = (1.0 - pairs[i].dot) / span * double(kBuckets);
+		    return int32_t(std::min(double(kBuckets - 1), std::max(0.0, x)));
+	    },
+	    [](int32_t, int32_t) { return false; }, bstart, order);
+	// greedy union; a union keeps its normals in a cone of half-angle `limit` (any two within
+	// the level's bound, as inside one cell). One cache line per superface: the loop is bound by
+	// random memory accesses.
+	struct Node {
+		Vec3 mean;
+		double area, radius;
+		double cosRoom; ///< cos(limit - radius): how close the merged mean must stay to mean
+		float seedArea; ///< area of the part whose cell the union keeps
+		int32_t parent, members;
+		CellKey cell;
+	};
+	std::vector<Node> node(n);
+	const double cosLimit = std::cos(limit);
 	for (size_t s = 0; s < n; ++s)
-		parent[s] = int32_t(s);
+		node[s] = Node{mean[s], area[s], radius[s],
+		               radius[s] > 0 ? std::cos(std::max(0.0, limit - radius[s])) : cosLimit,
+		               float(area[s]), int32_t(s), 1, p.cell[s]};
+	std::vector<Vec3>().swap(mean);
 	auto find = [&](int32_t s) {
-		while (parent[size_t(s)] != s)
-			s = parent[size_t(s)] = parent[size_t(parent[size_t(s)])];
+		while (node[size_t(s)].parent != s)
+			s = node[size_t(s)].parent = node[size_t(node[size_t(s)].parent)].parent;
 		return s;
 	};
-	std::vector<CellKey> cell = p.cell;
-	std::vector<double> seedArea = area;
-	for (const auto &pr : pairs) {
-		const int32_t a = find(pr.second.first), b = find(pr.second.second);
+	for (const int32_t pi : order) {
+		const int32_t a = find(pairs[size_t(pi)].a), b = find(pairs[size_t(pi)].b);
 		if (a == b)
 			continue;
-		Vec3 m = mean[size_t(a)] * area[size_t(a)] + mean[size_t(b)] * area[size_t(b)];
+		Node &na = node[size_t(a)], &nb = node[size_t(b)];
+		Vec3 m = na.mean * na.area + nb.mean * nb.area;
 		if (!(m.Norm() > 0))
 			continue;
 		m.Normalize();
-		const double r = std::max(angle(m, mean[size_t(a)]) + radius[size_t(a)],
-		                          angle(m, mean[size_t(b)]) + radius[size_t(b)]);
+		const double da = m.dot(na.mean), db = m.dot(nb.mean);
+		if (da < na.cosRoom || db < nb.cosRoom)
+			continue; // (cheap test first; the exact one below)
+		const double r = std::max(angle(da) + na.radius, angle(db) + nb.radius);
 		if (r > limit)
 			continue;
-		// the root keeps the cell of the larger original superface
-		const int32_t root = a < b ? a : b, other = a < b ? b : a;
-		parent[size_t(other)] = root;
-		if (seedArea[size_t(other)] > seedArea[size_t(root)]) {
-			cell[size_t(root)] = cell[size_t(other)];
-			seedArea[size_t(root)] = seedArea[size_t(other)];
-		}
-		mean[size_t(root)] = m;
-		radius[size_t(root)] = r;
-		area[size_t(root)] += area[size_t(other)];
-		members[size_t(root)] += members[size_t(other)];
+		// the root (lower id) keeps the cell of the larger original superface
+		Node &root = a < b ? na : nb, &other = a < b ? nb : na;
+		other.parent = a < b ? a : b;
+		if (other.seedArea > root.seedArea)
+			root.cell = other.cell, root.seedArea = other.seedArea;
+		root.mean = m;
+		root.radius = r;
+		root.cosRoom = std::cos(std::max(0.0, limit - r));
+		root.area += other.area;
+		root.members += other.members;
 	}
-	for (size_t s = 0; s < n; ++s) {
-		const int32_t r = find(int32_t(s));
-		if (r == int32_t(s)) {
-			p.cell[s] = cell[s];
-			if (members[s] > 1)
+	for (size_t s = 0; s < n; ++s)
+		if (find(int32_t(s)) == int32_t(s)) {
+			p.cell[s] = node[s].cell;
+			if (node[s].members > 1)
 				p.origin[s] = mergedOrigin;
 		}
-	}
 	for (int32_t &l : p.label)
 		l = find(l);
 	canonicalize(p);
