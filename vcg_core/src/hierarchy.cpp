@@ -169,26 +169,26 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p, int8_t m
 		for (size_t s = 0; s < n; ++s)
 			radius[s] = minDot[s] < 1.0 ? angle(minDot[s]) : 0.0;
 	}
-	// candidate pairs: adjacent, and their cones fit in one of half-angle `limit`
-	std::vector<int32_t> start, adj;
-	superfaceAdjacency(t, p, start, adj);
+	// candidate pairs: adjacent (one per shared manifold edge; repeats are harmless), and their
+	// cones fit in one of half-angle `limit`
 	struct Pair {
 		int32_t a, b;
 		double dot;
 	};
 	std::vector<Pair> pairs;
-	for (size_t s = 0; s < n; ++s) {
-		if (p.cell[s] == kInvalidCell || !(mean[s].Norm() > 0) || radius[s] > limit)
+	for (size_t h = 0; h < t.twin.size(); ++h) {
+		const int32_t tw = t.twin[h];
+		if (tw < int32_t(h))
+			continue; // boundary (-1) or seen from the other side
+		const int32_t s = p.label[h / 3], w = p.label[size_t(heFace(tw))];
+		if (s == w || p.cell[size_t(s)] == kInvalidCell || p.cell[size_t(w)] == kInvalidCell)
 			continue;
-		for (int32_t i = start[s]; i < start[s + 1]; ++i) {
-			const int32_t w = adj[size_t(i)];
-			if (int32_t(s) >= w || p.cell[size_t(w)] == kInvalidCell || !(mean[size_t(w)].Norm() > 0))
-				continue;
-			const double room = 2 * limit - radius[s] - radius[size_t(w)];
-			const double d = mean[s].dot(mean[size_t(w)]);
-			if (room >= 0 && d >= std::cos(room) - 1e-15)
-				pairs.push_back(Pair{int32_t(s), w, d});
-		}
+		const double room = 2 * limit - radius[size_t(s)] - radius[size_t(w)];
+		if (room < 0 || !(mean[size_t(s)].Norm() > 0) || !(mean[size_t(w)].Norm() > 0))
+			continue;
+		const double d = mean[size_t(s)].dot(mean[size_t(w)]);
+		if (d >= std::cos(room) - 1e-15)
+			pairs.push_back(Pair{std::min(s, w), std::max(s, w), d});
 	}
 	if (pairs.empty())
 		return;
