@@ -40,6 +40,8 @@ void bucketSort(size_t n, size_t nKeys, KeyFn key, Less less, std::vector<int32_
 			order[size_t(fill[size_t(key(i))]++)] = int32_t(i);
 	}
 	for (size_t k = 0; k < nKeys; ++k) {
+		if (start[k + 1] - start[k] < 2)
+			continue; // (also: no pointer arithmetic on an empty order)
 		int32_t *b = order.data() + start[k], *e = order.data() + start[k + 1];
 		if (e - b <= 16) { // insertion sort
 			for (int32_t *i = b + 1; i < e; ++i)
