@@ -63,8 +63,8 @@ struct Params {
 	/// splits that cell borders cut through near-flat or slightly noisy regions.
 	/// false = the paper's superfaces (faces of one cell only).
 	bool mergeAcrossCells = true;
-	/// Worker threads for the per-superface work; 0 = one per core. The output does not depend
-	/// on it.
+	/// Worker threads for the per-superface work; 0 = one per core (at most 64). The output does
+	/// not depend on it.
 	int threads = 0;
 };
 

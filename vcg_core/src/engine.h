@@ -153,9 +153,19 @@ struct Partition {
 	std::vector<CellKey> cell;    ///< per superface, a cell of `level`; kInvalidCell = frozen
 	                              ///< (invalid input face: kept as it is, never merged)
 	std::vector<int8_t> origin;   ///< per superface: level of the partition it comes from (its
-	                              ///< children are that level+1's superfaces); -1 = one input face
+	                              ///< children are that level+1's superfaces); -1 = one input face;
+	                              ///< mergedOrigin(L) = a union across cells made at level L (its
+	                              ///< children are level L's parts below)
+	/// The partition before merging across cells (empty if nothing was merged): the parts a
+	/// cross-cell union falls back to, with their cells and origins.
+	std::vector<int32_t> partLabel;
+	std::vector<CellKey> partCell;
+	std::vector<int8_t> partOrigin;
 	size_t count() const { return cell.size(); }
 };
+
+inline int8_t mergedOrigin(int level) { return int8_t(-2 - level); }
+inline int mergedLevel(int8_t origin) { return -2 - origin; } ///< for origin <= -2
 
 /// Builds Topology from the input (validated by the caller). featureAngleDeg: 2.3.2 threshold.
 void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &topo);
@@ -164,13 +174,14 @@ void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &topo)
 void finestPartition(const Topology &topo, int level, Partition &out);
 
 /// 2.5 Merges superfaces of sibling cells of `fine` into the partition of level fine.level-1.
-void coarserPartition(const Topology &topo, const Partition &fine, Partition &out);
+/// A superface grown from several of them gets origin `grownOrigin` (where its children are).
+void coarserPartition(const Topology &topo, const Partition &fine, Partition &out, int8_t grownOrigin);
 
 /// Beyond the paper: merges adjacent superfaces whose normals together still fit in a cone of
-/// angular diameter boundDeg (at most what one cell of the level holds), across cell borders; a merged
-/// superface keeps the cell of its largest part and gets origin `mergedOrigin` (the level whose
-/// partition holds its parts).
-void mergeAcrossCells(const Topology &topo, double boundDeg, Partition &p, int8_t mergedOrigin);
+/// angular diameter boundDeg (at most what one cell of the level holds), across cell borders; a
+/// union keeps the cell of its largest part and gets origin mergedOrigin(p.level); the partition
+/// before the merge is kept in p.part* for its fallback.
+void mergeAcrossCells(const Topology &topo, double boundDeg, Partition &p);
 
 /// Renumbers labels by first face (deterministic ids) and drops unused superfaces.
 void canonicalize(Partition &p);

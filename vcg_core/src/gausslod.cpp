@@ -92,23 +92,16 @@ Result buildLevels(const MeshView &mesh, const Params &params, const Progress &p
 			return res;
 		buildTopology(mesh, params.featureAngleDeg, topo);
 		const int finest = params.maxLevel - 1;
-		// parts[level]; with cross-cell merging, parts[maxLevel] holds the finest partition before
-		// the merge (the parts a merged finest superface falls back to)
 		const bool across = params.mergeAcrossCells;
 		// cross-cell unions: normals within the level's bound of each other, and never across a
 		// feature (two normals farther apart than the feature angle: sharp stays sharp)
 		auto acrossLimit = [&](int level) {
 			return std::min(levelBoundDeg(level), params.featureAngleDeg);
 		};
-		std::vector<Partition> parts(size_t(params.maxLevel) + (across ? 1 : 0));
+		std::vector<Partition> parts(size_t(params.maxLevel));
 		finestPartition(topo, finest, parts[size_t(finest)]);
-		if (across) {
-			Partition &pre = parts[size_t(params.maxLevel)];
-			for (int8_t &o : parts[size_t(finest)].origin)
-				o = o < 0 ? o : int8_t(params.maxLevel); // children: the input faces
-			pre = parts[size_t(finest)];
-			mergeAcrossCells(topo, acrossLimit(finest), parts[size_t(finest)], int8_t(finest));
-		}
+		if (across)
+			mergeAcrossCells(topo, acrossLimit(finest), parts[size_t(finest)]);
 		const double setup = since(t0);
 		res.levels.reserve(size_t(params.maxLevel));
 		LevelMesh finer; // the previous (finer) level
@@ -117,9 +110,9 @@ Result buildLevels(const MeshView &mesh, const Params &params, const Progress &p
 			if (!report(0.05 + 0.95 * double(finest - level) / params.maxLevel, "building level"))
 				return res;
 			if (level < finest) {
-				coarserPartition(topo, parts[size_t(level) + 1], parts[size_t(level)]);
+				coarserPartition(topo, parts[size_t(level) + 1], parts[size_t(level)], int8_t(level));
 				if (across)
-					mergeAcrossCells(topo, acrossLimit(level), parts[size_t(level)], int8_t(level));
+					mergeAcrossCells(topo, acrossLimit(level), parts[size_t(level)]);
 			}
 			LevelMesh lm;
 			lm.stats.secondsPartition = since(tl) + (level == finest ? setup : 0.0);
@@ -129,6 +122,8 @@ Result buildLevels(const MeshView &mesh, const Params &params, const Progress &p
 				Partition &p = parts[size_t(level)];
 				p = parts[size_t(level) + 1];
 				p.level = level;
+				// (its origins still point to the finer level's parts: no copy of them needed)
+				p.partLabel.clear(), p.partCell.clear(), p.partOrigin.clear();
 				for (CellKey &c : p.cell)
 					c = c == kInvalidCell ? c : parentKey(c);
 				LevelStats spent = lm.stats; // the time was spent all the same

@@ -45,7 +45,7 @@ void superfaceAdjacency(const Topology &t, const Partition &p, std::vector<int32
 
 } // namespace
 
-void coarserPartition(const Topology &t, const Partition &fine, Partition &out)
+void coarserPartition(const Topology &t, const Partition &fine, Partition &out, int8_t grownOrigin)
 {
 	const size_t n = fine.count();
 	std::vector<int32_t> start, adj;
@@ -62,7 +62,7 @@ void coarserPartition(const Topology &t, const Partition &fine, Partition &out)
 	auto grow = [&](int32_t seed, auto accepts) {
 		const int32_t g = int32_t(out.cell.size());
 		out.cell.push_back(parentKey(fine.cell[size_t(seed)]));
-		out.origin.push_back(int8_t(out.level));
+		out.origin.push_back(grownOrigin);
 		group[size_t(seed)] = g;
 		firstMember[size_t(g)] = seed;
 		members[size_t(g)] = 1;
@@ -141,8 +141,9 @@ void coarserPartition(const Topology &t, const Partition &fine, Partition &out)
 	canonicalize(out);
 }
 
-void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p, int8_t mergedOrigin)
+void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 {
+	p.partLabel.clear(), p.partCell.clear(), p.partOrigin.clear();
 	const size_t n = p.count();
 	if (n < 2)
 		return;
@@ -252,11 +253,17 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p, int8_t m
 		root.area += other.area;
 		root.members += other.members;
 	}
+	bool any = false;
+	for (size_t s = 0; s < n && !any; ++s)
+		any = node[s].members > 1 && find(int32_t(s)) == int32_t(s);
+	if (!any)
+		return;
+	p.partLabel = p.label, p.partCell = p.cell, p.partOrigin = p.origin;
 	for (size_t s = 0; s < n; ++s)
 		if (find(int32_t(s)) == int32_t(s)) {
 			p.cell[s] = node[s].cell;
 			if (node[s].members > 1)
-				p.origin[s] = mergedOrigin;
+				p.origin[s] = mergedOrigin(p.level);
 		}
 	for (int32_t &l : p.label)
 		l = find(l);

@@ -110,6 +110,7 @@ public:
 		extraLock_.assign(t_.nV, 0);
 		threads_ = prm_.threads > 0 ? size_t(prm_.threads)
 		                            : std::max<size_t>(1, std::thread::hardware_concurrency());
+		threads_ = std::min<size_t>(threads_, 64);
 		scratch_.resize(threads_);
 		size_t fallbacks = 0;
 		int round = 0;
@@ -1074,7 +1075,7 @@ private:
 				int32_t id;
 				CellKey cell;
 				int8_t origin;
-				if (o >= finest || o < 0) { // children are the input faces
+				if (o == -1 || o >= finest) { // children are the input faces
 					id = -1;
 					Cell c;
 					const Vec3 &n = t_.faceNormal[size_t(f)];
@@ -1083,16 +1084,21 @@ private:
 					cell = packCell(c);
 					origin = -1;
 				} else {
-					const Partition &fp = finer_[size_t(o + 1)];
-					const int32_t child = fp.label[size_t(f)];
-					if (childMap.size() < fp.count())
-						childMap.resize(fp.count(), -1);
+					// children: the parts of a cross-cell union, or the next finer level's
+					const bool parts = o <= -2;
+					const Partition &fp = finer_[size_t(parts ? mergedLevel(int8_t(o)) : o + 1)];
+					const std::vector<int32_t> &label = parts ? fp.partLabel : fp.label;
+					const std::vector<CellKey> &cells = parts ? fp.partCell : fp.cell;
+					const std::vector<int8_t> &origins = parts ? fp.partOrigin : fp.origin;
+					const int32_t child = label[size_t(f)];
+					if (childMap.size() < cells.size())
+						childMap.resize(cells.size(), -1);
 					id = childMap[size_t(child)];
-					CellKey k = fp.cell[size_t(child)];
+					CellKey k = cells[size_t(child)];
 					for (int l = fp.level; l > p_.level && k != kInvalidCell; --l)
 						k = parentKey(k);
 					cell = k;
-					origin = fp.origin[size_t(child)];
+					origin = origins[size_t(child)];
 					if (id < 0) {
 						id = int32_t(p_.cell.size());
 						childMap[size_t(child)] = id;
