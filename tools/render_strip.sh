@@ -14,13 +14,16 @@ read -r yaw pitch <<<"${VIEW:-30 25}"
 for tool in "$build/gausslod" "$build/render_levels"; do
   [ -x "$tool" ] || { echo "render_strip.sh: $tool not built" >&2; exit 2; }
 done
-command -v convert >/dev/null || { echo "render_strip.sh: imagemagick's convert not found" >&2; exit 2; }
+# Debian's imagemagick (a different `convert` earlier on PATH may be something else)
+convert=/usr/bin/convert
+[ -x "$convert" ] || convert=$(command -v convert) ||
+  { echo "render_strip.sh: imagemagick's convert not found" >&2; exit 2; }
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 "$build/gausslod" "$mesh" "$tmp" >"$tmp/table.txt"
 name=$(basename "$mesh"); name=${name%.*}
 files=("$mesh")
 for l in "${levels[@]}"; do files+=("$tmp/${name}_LOD$l.ply"); done
 "$build/render_levels" "$tmp/strip.ppm" "${SIZE:-480}" "$yaw" "$pitch" "${files[@]}"
-convert "$tmp/strip.ppm" -trim -bordercolor white -border 10 "$out"
+"$convert" "$tmp/strip.ppm" -trim -bordercolor white -border 10 "$out"
 cat "$tmp/table.txt"
 echo "render_strip.sh: wrote $out"
