@@ -196,6 +196,13 @@ const std::vector<Case> &corpus()
 		     return m;
 	     },
 	     nullptr},
+	    {"one huge triangle beside 20,000 tiny faces",
+	     [] {
+		     FlatMesh m = gridWithHole(100, 0, 0); // a unit square of 100 x 100 quads
+		     append(m, tri({-1e6, -1e6, 5, 1e6, -1e6, 5, 0, 1e6, 5}, {0, 1, 2}));
+		     return m;
+	     },
+	     nullptr},
 	    {"very thin long strip",
 	     [] {
 		     FlatMesh m;

@@ -89,6 +89,7 @@ struct FaceGrid {
 	double cell = 1;
 	uint64_t mask = 0;                ///< buckets - 1 (a power of two)
 	std::vector<int32_t> start, face; ///< bucket -> faces (CSR)
+	std::vector<int32_t> big;         ///< faces too large to list per cell: every query sees them
 
 	static uint64_t bucketOf(int64_t x, int64_t y, int64_t z, uint64_t mask)
 	{
@@ -97,11 +98,13 @@ struct FaceGrid {
 	}
 	int64_t index(double x, int k) const { return int64_t(std::floor((x - lo[k]) / cell)); }
 
-	/// Calls fn(face) for the faces listed in the buckets of the cells that meet the box [a, b]
-	/// (a face may come more than once; faces of other cells may come too).
+	/// Calls fn(face) for the big faces and the faces listed in the buckets of the cells that
+	/// meet the box [a, b] (a face may come more than once; faces of other cells may come too).
 	template <class Fn>
 	void forBox(const Vec3 &a, const Vec3 &b, Fn fn) const
 	{
+		for (const int32_t f : big)
+			fn(f);
 		if (start.size() < 2)
 			return;
 		const int64_t x0 = index(a[0], 0), x1 = index(b[0], 0), y0 = index(a[1], 1),

@@ -723,10 +723,12 @@ private:
 			const double r2 = w.ownDist2[k];
 			if (!(r2 > 0) || !std::isfinite(r2))
 				continue; // on its own faces (or nothing to compare with)
-			const double r = std::sqrt(r2);
+			// (the query box is capped at ~16^3 cells: a farther other side is not looked for,
+			// which bounds the time on strongly curved superfaces of very fine meshes)
+			const double r = std::min(std::sqrt(r2), 8 * t_.grid.cell);
 			const Vec3 &c = w.centroid[k];
 			// nearest face facing away (normals first: distances only for those)
-			double away = r2 * (1 - 1e-9);
+			double away = r * r * (1 - 1e-9);
 			bool anyAway = false;
 			t_.grid.forBox(c - Vec3(r, r, r), c + Vec3(r, r, r), [&](int32_t g) {
 				if (t_.faceNormal[size_t(g)].dot(tn[k]) < 0) {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 
 namespace gausslod {
 namespace detail {
@@ -227,15 +228,18 @@ void classifyVertices(Topology &t, double thresholdDeg)
 	}
 }
 
-// Cells about twice the mean face extent (larger if the faces would be listed more than ~8 times
-// each on average), about two buckets per listed face.
+// Cells about twice the median face extent; a face that would span more than kBigCells cells is
+// kept in a separate list that every query scans (a few huge faces among many tiny ones must
+// neither be walked cell by cell nor make the cells huge); cells grow while that list or the
+// listing grows too long.
 void buildGrid(Topology &t)
 {
+	constexpr double kBigCells = 64;
 	FaceGrid &g = t.grid;
 	g.start.assign(1, 0);
-	g.face.clear();
-	double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, extent = 0;
-	size_t valid = 0;
+	g.face.clear(), g.big.clear();
+	double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL};
+	std::vector<double> extent;
 	auto box = [&](size_t f, double a[3], double b[3]) {
 		for (int k = 0; k < 3; ++k) {
 			a[k] = HUGE_VAL, b[k] = -HUGE_VAL;
@@ -248,58 +252,76 @@ void buildGrid(Topology &t)
 	for (size_t f = 0; f < t.nF; ++f) {
 		if (!t.faceValid[f])
 			continue;
-		++valid;
 		double a[3], b[3];
 		box(f, a, b);
 		for (int k = 0; k < 3; ++k)
 			lo[k] = std::min(lo[k], a[k]);
-		extent += std::max(b[0] - a[0], std::max(b[1] - a[1], b[2] - a[2]));
+		extent.push_back(std::max(b[0] - a[0], std::max(b[1] - a[1], b[2] - a[2])));
 	}
+	const size_t valid = extent.size();
 	if (valid == 0)
 		return;
 	for (int k = 0; k < 3; ++k)
 		g.lo[k] = lo[k];
-	g.cell = extent > 0 ? 2.0 * extent / double(valid) : (t.diagonal > 0 ? t.diagonal : 1.0);
+	std::nth_element(extent.begin(), extent.begin() + std::ptrdiff_t(valid / 2), extent.end());
+	const double median = extent[valid / 2];
+	std::vector<double>().swap(extent);
+	g.cell = median > 0 ? 2.0 * median : (t.diagonal > 0 ? t.diagonal : 1.0);
 	// every coordinate is >= lo: truncation is floor
-	auto cells = [&](size_t f, double inv, auto fn) {
+	auto range = [&](size_t f, double inv, int64_t i0[3], int64_t i1[3]) {
 		double a[3], b[3];
 		box(f, a, b);
-		int64_t i0[3], i1[3];
-		for (int k = 0; k < 3; ++k)
+		double n = 1;
+		for (int k = 0; k < 3; ++k) {
 			i0[k] = int64_t((a[k] - lo[k]) * inv), i1[k] = int64_t((b[k] - lo[k]) * inv);
+			n *= double(i1[k] - i0[k] + 1);
+		}
+		return n; // cells the face's box meets
+	};
+	// counted, not visited
+	for (int attempt = 0; attempt < 200; ++attempt) {
+		const double inv = 1.0 / g.cell;
+		double entries = 0;
+		size_t big = 0;
+		for (size_t f = 0; f < t.nF; ++f)
+			if (t.faceValid[f]) {
+				int64_t i0[3], i1[3];
+				const double n = range(f, inv, i0, i1);
+				if (n > kBigCells)
+					++big;
+				else
+					entries += n;
+			}
+		if (entries <= 4.0 * double(valid) + 64 && big <= 256 + valid / 1000)
+			break;
+		g.cell *= 2;
+	}
+	const double inv = 1.0 / g.cell;
+	auto forCells = [&](size_t f, auto fn) {
+		int64_t i0[3], i1[3];
+		if (range(f, inv, i0, i1) > kBigCells)
+			return false;
 		for (int64_t z = i0[2]; z <= i1[2]; ++z)
 			for (int64_t y = i0[1]; y <= i1[1]; ++y)
 				for (int64_t x = i0[0]; x <= i1[0]; ++x)
-					fn(x, y, z);
+					fn(FaceGrid::bucketOf(x, y, z, g.mask));
+		return true;
 	};
 	size_t buckets = 1;
 	while (buckets < valid)
 		buckets <<= 1;
-	for (;;) { // count per bucket; cells grow while faces are listed more than ~4 times each
-		const double inv = 1.0 / g.cell;
-		g.mask = buckets - 1;
-		g.start.assign(buckets + 1, 0);
-		size_t entries = 0;
-		for (size_t f = 0; f < t.nF && entries <= 4 * valid + 64; ++f)
-			if (t.faceValid[f])
-				cells(f, inv, [&](int64_t x, int64_t y, int64_t z) {
-					++g.start[FaceGrid::bucketOf(x, y, z, g.mask) + 1];
-					++entries;
-				});
-		if (entries <= 4 * valid + 64)
-			break;
-		g.cell *= 1.5;
-	}
+	g.mask = buckets - 1;
+	g.start.assign(buckets + 1, 0);
+	for (size_t f = 0; f < t.nF; ++f)
+		if (t.faceValid[f] && !forCells(f, [&](uint64_t c) { ++g.start[c + 1]; }))
+			g.big.push_back(int32_t(f));
 	for (size_t c = 0; c < buckets; ++c)
 		g.start[c + 1] += g.start[c];
 	g.face.resize(size_t(g.start[buckets]));
 	std::vector<int32_t> fill(g.start.begin(), g.start.end() - 1);
-	const double inv = 1.0 / g.cell;
 	for (size_t f = 0; f < t.nF; ++f)
 		if (t.faceValid[f])
-			cells(f, inv, [&](int64_t x, int64_t y, int64_t z) {
-				g.face[size_t(fill[FaceGrid::bucketOf(x, y, z, g.mask)]++)] = int32_t(f);
-			});
+			forCells(f, [&](uint64_t c) { g.face[size_t(fill[c]++)] = int32_t(f); });
 }
 
 } // namespace
