@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <exception>
+#include <thread>
 #include <vector>
 
 namespace gausslod {
@@ -119,6 +121,42 @@ struct FaceGrid {
 	}
 };
 
+/// Worker threads for `requested` (0 = one per core), at most 64.
+inline size_t threadCount(int requested)
+{
+	const size_t n = requested > 0 ? size_t(requested) : size_t(std::thread::hardware_concurrency());
+	return std::max<size_t>(1, std::min<size_t>(n, 64));
+}
+
+/// Runs fn(begin, end, part) on [0, n) cut in up to `threads` contiguous parts (part 0 on the
+/// calling thread); an exception in any part is rethrown here.
+template <class Fn>
+void parallelRanges(size_t n, size_t threads, Fn fn)
+{
+	const size_t parts = std::max<size_t>(1, std::min(threads, n / 4096 + 1));
+	if (parts == 1) {
+		fn(size_t(0), n, size_t(0));
+		return;
+	}
+	std::vector<std::exception_ptr> error(parts);
+	auto run = [&](size_t p) {
+		try {
+			fn(n * p / parts, n * (p + 1) / parts, p);
+		} catch (...) {
+			error[p] = std::current_exception();
+		}
+	};
+	std::vector<std::thread> pool;
+	for (size_t p = 1; p < parts; ++p)
+		pool.emplace_back(run, p);
+	run(0);
+	for (std::thread &t : pool)
+		t.join();
+	for (const std::exception_ptr &e : error)
+		if (e)
+			std::rethrow_exception(e);
+}
+
 enum VertexClass : uint8_t { kFlat = 0, kEdge = 1, kCorner = 2 }; // = importance (2.3.2)
 
 /// Everything derived once from the input mesh.
@@ -171,7 +209,7 @@ inline int8_t mergedOrigin(int level) { return int8_t(-2 - level); }
 inline int mergedLevel(int8_t origin) { return -2 - origin; } ///< for origin <= -2
 
 /// Builds Topology from the input (validated by the caller). featureAngleDeg: 2.3.2 threshold.
-void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &topo);
+void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &topo, size_t threads = 1);
 
 /// 2.2.1 The finest near-coplanar sets: faces of one cell connected through 2-manifold edges.
 void finestPartition(const Topology &topo, int level, Partition &out);

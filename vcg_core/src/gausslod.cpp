@@ -90,7 +90,7 @@ Result buildLevels(const MeshView &mesh, const Params &params, const Progress &p
 		Topology topo;
 		if (!report(0.0, "adjacency and vertex classes"))
 			return res;
-		buildTopology(mesh, params.featureAngleDeg, topo);
+		buildTopology(mesh, params.featureAngleDeg, topo, threadCount(params.threads));
 		const int finest = params.maxLevel - 1;
 		const bool across = params.mergeAcrossCells;
 		// cross-cell unions: normals within the level's bound of each other, and never across a

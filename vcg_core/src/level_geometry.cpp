@@ -108,9 +108,7 @@ public:
 		tolerance_ = std::max(prm_.straightenTolerance, 1e-9 * t_.diagonal);
 		devLimit_ = prm_.deviationFactor > 0 ? prm_.deviationFactor * levelBoundDeg(p_.level) : 180.0;
 		extraLock_.assign(t_.nV, 0);
-		threads_ = prm_.threads > 0 ? size_t(prm_.threads)
-		                            : std::max<size_t>(1, std::thread::hardware_concurrency());
-		threads_ = std::min<size_t>(threads_, 64);
+		threads_ = threadCount(prm_.threads);
 		scratch_.resize(threads_);
 		size_t fallbacks = 0;
 		int round = 0;

@@ -19,25 +19,27 @@ double angleDeg(const Vec3 &a, const Vec3 &b)
 	return std::acos(d) * kRadToDeg;
 }
 
-void computeFaces(Topology &t)
+void computeFaces(Topology &t, size_t threads)
 {
 	t.faceNormal.assign(t.nF, Vec3(0, 0, 0));
 	t.faceArea.assign(t.nF, 0.0);
 	t.faceValid.assign(t.nF, 0);
 	// Faces smaller than this (relative to the model size) have no reliable normal.
 	const double minCross = 1e-20 * t.diagonal * t.diagonal;
-	for (size_t f = 0; f < t.nF; ++f) {
-		const int32_t a = t.T[3 * f], b = t.T[3 * f + 1], c = t.T[3 * f + 2];
-		if (t.faceDropped[f])
-			continue;
-		const Vec3 n = (t.pos(b) - t.pos(a)) ^ (t.pos(c) - t.pos(a));
-		const double len = n.Norm();
-		if (!std::isfinite(len) || len <= minCross)
-			continue;
-		t.faceNormal[f] = n / len;
-		t.faceArea[f] = 0.5 * len;
-		t.faceValid[f] = 1;
-	}
+	parallelRanges(t.nF, threads, [&](size_t begin, size_t end, size_t) {
+		for (size_t f = begin; f < end; ++f) {
+			const int32_t a = t.T[3 * f], b = t.T[3 * f + 1], c = t.T[3 * f + 2];
+			if (t.faceDropped[f])
+				continue;
+			const Vec3 n = (t.pos(b) - t.pos(a)) ^ (t.pos(c) - t.pos(a));
+			const double len = n.Norm();
+			if (!std::isfinite(len) || len <= minCross)
+				continue;
+			t.faceNormal[f] = n / len;
+			t.faceArea[f] = 0.5 * len;
+			t.faceValid[f] = 1;
+		}
+	});
 }
 
 // Vertex -> faces (CSR) over the faces that are not dropped.
@@ -95,137 +97,148 @@ void dropNonTriangles(Topology &t)
 }
 
 // Twins across 2-manifold, consistently oriented edges; everything else locks its vertices.
-void buildTwins(Topology &t)
+void buildTwins(Topology &t, size_t threads)
 {
 	t.twin.assign(3 * t.nF, -1);
 	t.vertexLocked.assign(t.nV, 0);
-	for (size_t f = 0; f < t.nF; ++f) {
-		if (t.faceDropped[f])
-			continue;
-		if (!t.faceValid[f]) {
-			for (int k = 0; k < 3; ++k)
-				t.vertexLocked[size_t(t.T[3 * f + k])] = 1;
-			continue;
-		}
-		for (int k = 0; k < 3; ++k) {
-			const int32_t h = int32_t(3 * f + k), a = t.heFrom(h), b = t.heTo(h);
-			int others = 0;
-			int32_t opposite = -1;
-			bool inconsistent = false;
-			int32_t lastFace = -1;
-			for (int32_t i = t.vfStart[size_t(a)]; i < t.vfStart[size_t(a) + 1]; ++i) {
-				const int32_t g = t.vfFace[size_t(i)];
-				if (g == int32_t(f) || g == lastFace)
-					continue;
-				lastFace = g;
-				for (int kk = 0; kk < 3; ++kk) {
-					const int32_t hg = 3 * g + kk;
-					if (t.heFrom(hg) == b && t.heTo(hg) == a) {
-						++others;
-						opposite = t.faceValid[size_t(g)] ? hg : -1;
-					} else if (t.heFrom(hg) == a && t.heTo(hg) == b) {
-						++others;
-						inconsistent = true;
+	std::vector<std::vector<int32_t>> lock(threads); // vertices to lock, per part
+	parallelRanges(t.nF, threads, [&](size_t fBegin, size_t fEnd, size_t part) {
+		std::vector<int32_t> &locks = lock[part];
+		for (size_t f = fBegin; f < fEnd; ++f) {
+			if (t.faceDropped[f])
+				continue;
+			if (!t.faceValid[f]) {
+				for (int k = 0; k < 3; ++k)
+					locks.push_back(t.T[3 * f + k]);
+				continue;
+			}
+			for (int k = 0; k < 3; ++k) {
+				const int32_t h = int32_t(3 * f + k), a = t.heFrom(h), b = t.heTo(h);
+				int others = 0;
+				int32_t opposite = -1;
+				bool inconsistent = false;
+				int32_t lastFace = -1;
+				for (int32_t i = t.vfStart[size_t(a)]; i < t.vfStart[size_t(a) + 1]; ++i) {
+					const int32_t g = t.vfFace[size_t(i)];
+					if (g == int32_t(f) || g == lastFace)
+						continue;
+					lastFace = g;
+					for (int kk = 0; kk < 3; ++kk) {
+						const int32_t hg = 3 * g + kk;
+						if (t.heFrom(hg) == b && t.heTo(hg) == a) {
+							++others;
+							opposite = t.faceValid[size_t(g)] ? hg : -1;
+						} else if (t.heFrom(hg) == a && t.heTo(hg) == b) {
+							++others;
+							inconsistent = true;
+						}
 					}
 				}
+				if (others == 1 && !inconsistent && opposite >= 0)
+					t.twin[size_t(h)] = opposite;
+				else if (others > 0) // non-manifold or inconsistently oriented edge
+					locks.push_back(a), locks.push_back(b);
 			}
-			if (others == 1 && !inconsistent && opposite >= 0)
-				t.twin[size_t(h)] = opposite;
-			else if (others > 0) // non-manifold or inconsistently oriented edge
-				t.vertexLocked[size_t(a)] = t.vertexLocked[size_t(b)] = 1;
 		}
-	}
+	});
+	for (const std::vector<int32_t> &l : lock)
+		for (int32_t v : l)
+			t.vertexLocked[size_t(v)] = 1;
 }
 
 // A vertex whose incident faces do not form one fan through twins is non-manifold: lock it.
-void lockNonManifoldVertices(Topology &t)
+void lockNonManifoldVertices(Topology &t, size_t threads)
 {
-	for (size_t v = 0; v < t.nV; ++v) {
-		const int32_t begin = t.vfStart[v], end = t.vfStart[v + 1];
-		if (begin == end || t.vertexLocked[v])
-			continue;
-		const int32_t f0 = t.vfFace[size_t(begin)];
-		auto cornerOf = [&](int32_t f) {
-			for (int k = 0; k < 3; ++k)
-				if (t.T[3 * f + k] == int32_t(v))
-					return 3 * f + k;
-			return int32_t(-1);
-		};
-		int32_t fan = 1;
-		bool closed = false;
-		// rotate across the edges leaving v
-		for (int32_t h = cornerOf(f0), steps = 0; steps <= end - begin; ++steps) {
-			const int32_t tw = t.twin[size_t(h)];
-			if (tw < 0)
-				break;
-			if (heFace(tw) == f0) {
-				closed = true;
-				break;
-			}
-			++fan;
-			h = heNext(tw); // in the twin's face, the edge leaving v
-		}
-		if (!closed) // rotate the other way across the edges entering v
-			for (int32_t h = hePrev(cornerOf(f0)), steps = 0; steps <= end - begin; ++steps) {
+	parallelRanges(t.nV, threads, [&](size_t vBegin, size_t vEnd, size_t) {
+		for (size_t v = vBegin; v < vEnd; ++v) {
+			const int32_t begin = t.vfStart[v], end = t.vfStart[v + 1];
+			if (begin == end || t.vertexLocked[v])
+				continue;
+			const int32_t f0 = t.vfFace[size_t(begin)];
+			auto cornerOf = [&](int32_t f) {
+				for (int k = 0; k < 3; ++k)
+					if (t.T[3 * f + k] == int32_t(v))
+						return 3 * f + k;
+				return int32_t(-1);
+			};
+			int32_t fan = 1;
+			bool closed = false;
+			// rotate across the edges leaving v
+			for (int32_t h = cornerOf(f0), steps = 0; steps <= end - begin; ++steps) {
 				const int32_t tw = t.twin[size_t(h)];
-				if (tw < 0 || heFace(tw) == f0)
+				if (tw < 0)
 					break;
+				if (heFace(tw) == f0) {
+					closed = true;
+					break;
+				}
 				++fan;
-				h = hePrev(tw);
+				h = heNext(tw); // in the twin's face, the edge leaving v
 			}
-		if (fan != end - begin)
-			t.vertexLocked[v] = 1;
-	}
+			if (!closed) // rotate the other way across the edges entering v
+				for (int32_t h = hePrev(cornerOf(f0)), steps = 0; steps <= end - begin; ++steps) {
+					const int32_t tw = t.twin[size_t(h)];
+					if (tw < 0 || heFace(tw) == f0)
+						break;
+					++fan;
+					h = hePrev(tw);
+				}
+			if (fan != end - begin)
+				t.vertexLocked[v] = 1;
+		}
+	});
 }
 
 // 2.3.2: A1 = largest angle between two incident face normals (two linear sweeps approximate the
 // diameter), the faces split into two groups around those two bases, A2 = the larger group cone.
-void classifyVertices(Topology &t, double thresholdDeg)
+void classifyVertices(Topology &t, double thresholdDeg, size_t threads)
 {
 	t.vertexClass.assign(t.nV, kFlat);
-	for (size_t v = 0; v < t.nV; ++v) {
-		const int32_t begin = t.vfStart[v], end = t.vfStart[v + 1];
-		Vec3 mean(0, 0, 0);
-		for (int32_t i = begin; i < end; ++i)
-			mean += t.faceNormal[size_t(t.vfFace[size_t(i)])];
-		auto farthestFrom = [&](const Vec3 &dir, int group, const Vec3 *b1, const Vec3 *b2) {
-			int32_t best = -1;
-			double bestDot = HUGE_VAL;
-			for (int32_t i = begin; i < end; ++i) {
-				const int32_t f = t.vfFace[size_t(i)];
-				if (!t.faceValid[size_t(f)])
-					continue;
-				const Vec3 &n = t.faceNormal[size_t(f)];
-				if (group >= 0 && (n.dot(*b1) >= n.dot(*b2) ? 0 : 1) != group)
-					continue;
-				const double d = n.dot(dir);
-				if (d < bestDot) {
-					bestDot = d;
-					best = f;
+	parallelRanges(t.nV, threads, [&](size_t vBegin, size_t vEnd, size_t) {
+		for (size_t v = vBegin; v < vEnd; ++v) {
+			const int32_t begin = t.vfStart[v], end = t.vfStart[v + 1];
+			Vec3 mean(0, 0, 0);
+			for (int32_t i = begin; i < end; ++i)
+				mean += t.faceNormal[size_t(t.vfFace[size_t(i)])];
+			auto farthestFrom = [&](const Vec3 &dir, int group, const Vec3 *b1, const Vec3 *b2) {
+				int32_t best = -1;
+				double bestDot = HUGE_VAL;
+				for (int32_t i = begin; i < end; ++i) {
+					const int32_t f = t.vfFace[size_t(i)];
+					if (!t.faceValid[size_t(f)])
+						continue;
+					const Vec3 &n = t.faceNormal[size_t(f)];
+					if (group >= 0 && (n.dot(*b1) >= n.dot(*b2) ? 0 : 1) != group)
+						continue;
+					const double d = n.dot(dir);
+					if (d < bestDot) {
+						bestDot = d;
+						best = f;
+					}
 				}
-			}
-			return best;
-		};
-		const int32_t f1 = farthestFrom(mean, -1, nullptr, nullptr);
-		if (f1 < 0)
-			continue;
-		const Vec3 b1 = t.faceNormal[size_t(f1)];
-		const Vec3 b2 = t.faceNormal[size_t(farthestFrom(b1, -1, nullptr, nullptr))];
-		const double a1 = angleDeg(b1, b2);
-		if (a1 < thresholdDeg)
-			continue;
-		double a2 = 0;
-		for (int group = 0; group < 2; ++group) {
-			const Vec3 &base = group == 0 ? b1 : b2;
-			const int32_t g1 = farthestFrom(base, group, &b1, &b2);
-			if (g1 < 0)
+				return best;
+			};
+			const int32_t f1 = farthestFrom(mean, -1, nullptr, nullptr);
+			if (f1 < 0)
 				continue;
-			const Vec3 e1 = t.faceNormal[size_t(g1)];
-			const int32_t g2 = farthestFrom(e1, group, &b1, &b2);
-			a2 = std::max(a2, angleDeg(e1, t.faceNormal[size_t(g2)]));
+			const Vec3 b1 = t.faceNormal[size_t(f1)];
+			const Vec3 b2 = t.faceNormal[size_t(farthestFrom(b1, -1, nullptr, nullptr))];
+			const double a1 = angleDeg(b1, b2);
+			if (a1 < thresholdDeg)
+				continue;
+			double a2 = 0;
+			for (int group = 0; group < 2; ++group) {
+				const Vec3 &base = group == 0 ? b1 : b2;
+				const int32_t g1 = farthestFrom(base, group, &b1, &b2);
+				if (g1 < 0)
+					continue;
+				const Vec3 e1 = t.faceNormal[size_t(g1)];
+				const int32_t g2 = farthestFrom(e1, group, &b1, &b2);
+				a2 = std::max(a2, angleDeg(e1, t.faceNormal[size_t(g2)]));
+			}
+			t.vertexClass[v] = a2 > thresholdDeg ? kCorner : kEdge;
 		}
-		t.vertexClass[v] = a2 > thresholdDeg ? kCorner : kEdge;
-	}
+	});
 }
 
 // Cells about twice the median face extent; a face that would span more than kBigCells cells is
@@ -326,7 +339,7 @@ void buildGrid(Topology &t)
 
 } // namespace
 
-void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &t)
+void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &t, size_t threads)
 {
 	t.nV = mesh.vertexCount;
 	t.nF = mesh.faceCount;
@@ -334,10 +347,10 @@ void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &t)
 	t.T = mesh.triangles;
 	t.diagonal = bboxDiagonal(mesh);
 	dropNonTriangles(t);
-	computeFaces(t);
-	buildTwins(t);
-	lockNonManifoldVertices(t);
-	classifyVertices(t, featureAngleDeg);
+	computeFaces(t, threads);
+	buildTwins(t, threads);
+	lockNonManifoldVertices(t, threads);
+	classifyVertices(t, featureAngleDeg, threads);
 	buildGrid(t);
 }
 
