@@ -29,6 +29,8 @@ void usage()
 	             "  --feature-angle D   vertex-class threshold, degrees (30)\n"
 	             "  --straighten P      border straightening tolerance, %% of bbox diagonal (0.5)\n"
 	             "  --merge P           vicinity merge distance, %% of bbox diagonal (0.25)\n"
+	             "  --normal-limit F    normal deviation limit, x each level's bound; 0 = none (1)\n"
+	             "  --output-levels L   \"all\" or a comma list of levels to write, 0 = coarsest (all)\n"
 	             "  --paper-superfaces  superfaces within one Gauss-sphere cell only, as in the paper\n"
 	             "                      (default: also merge across cell borders within the bound)\n"
 	             "  --threads N         worker threads, 0 = one per core (0); same output for any N\n"
@@ -51,6 +53,7 @@ int main(int argc, char **argv)
 	gausslod::Params params;
 	double straightenPct = 0.5, mergePct = 0.25;
 	bool colour = true, json = false;
+	std::string outputLevels = "all";
 	std::string input, outdir;
 	for (int i = 1; i < argc; ++i) {
 		const std::string a = argv[i];
@@ -71,6 +74,14 @@ int main(int argc, char **argv)
 			value(straightenPct);
 		} else if (a == "--merge") {
 			value(mergePct);
+		} else if (a == "--normal-limit") {
+			value(params.deviationFactor);
+		} else if (a == "--output-levels") {
+			if (i + 1 >= argc) {
+				std::fprintf(stderr, "gausslod: %s needs a list\n", a.c_str());
+				return 2;
+			}
+			outputLevels = argv[++i];
 		} else if (a == "--paper-superfaces") {
 			params.mergeAcrossCells = false;
 		} else if (a == "--threads") {
@@ -99,6 +110,27 @@ int main(int argc, char **argv)
 	if (input.empty() || outdir.empty()) {
 		usage();
 		return 2;
+	}
+	if (outputLevels != "all") { // as the filter's "Output levels"
+		params.levelMask = 0;
+		std::string item;
+		for (size_t p = 0; p <= outputLevels.size(); ++p) {
+			if (p < outputLevels.size() && outputLevels[p] != ',') {
+				item += outputLevels[p];
+				continue;
+			}
+			char *end = nullptr;
+			const long level = std::strtol(item.c_str(), &end, 10);
+			if (item.empty() || *end != 0 || level < 0 || level >= params.maxLevel) {
+				std::fprintf(stderr,
+				             "gausslod: --output-levels: '%s' is not a level index; write \"all\" or "
+				             "a comma list of numbers from 0 (coarsest) to %d (finest)\n",
+				             item.c_str(), params.maxLevel - 1);
+				return 2;
+			}
+			params.levelMask |= 1u << level;
+			item.clear();
+		}
 	}
 	struct stat st;
 	if (stat(input.c_str(), &st) != 0) {

@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# The gausslod tool: files, table and JSON agree with each other, options do what they say, the
+# output does not depend on the thread count, and errors give their exit codes and messages.
+# usage: test_cli.sh GAUSSLOD DATA_DIR WORK_DIR
+set -uo pipefail
+tool=$1 data=$2 work=$3
+rm -rf "$work"; mkdir -p "$work"
+failures=0
+fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
+pass() { echo "ok: $*"; }
+
+# faces of a PLY file from its header
+ply_faces() { LC_ALL=C awk '$1 == "element" && $2 == "face" { print $3; exit }' "$1"; }
+
+# 1. cow, defaults: 5 files, the table's faces agree with the files, counts never grow
+"$tool" "$data/cow.off" "$work/cow" >"$work/cow.txt" 2>&1; rc=$?
+[ $rc -eq 0 ] && pass "cow: exit 0" || fail "cow: exit $rc: $(cat "$work/cow.txt")"
+prev=999999999
+for l in 4 3 2 1 0; do
+  f=$work/cow/cow_LOD$l.ply
+  [ -s "$f" ] || { fail "$f missing"; continue; }
+  faces=$(ply_faces "$f")
+  row=$(awk -v l="LOD$l" '$1 == l { print $2 }' "$work/cow.txt")
+  [ "$faces" = "$row" ] || fail "LOD$l: file has $faces faces, table says '$row'"
+  [ "$faces" -le "$prev" ] || fail "LOD$l: $faces faces, more than the finer level ($prev)"
+  prev=$faces
+done
+[ "$(ls "$work/cow" | wc -l)" -eq 5 ] || fail "cow: expected 5 files, got $(ls "$work/cow")"
+[ "$prev" -lt 5804 ] && pass "cow: 5804 -> $prev faces at LOD0" || fail "cow: LOD0 not smaller than the input"
+
+# 2. --json: one line per level, measured deviation within the bound (normal limit 1)
+"$tool" --json "$data/fandisk.off" "$work/json" >"$work/json.txt" 2>&1 || fail "--json: exit $?"
+if python3 - "$work/json.txt" <<'PY'
+import json, os, sys
+rows = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
+assert [r["level"] for r in rows] == [4, 3, 2, 1, 0], rows
+for r in rows:
+    assert os.path.getsize(r["file"]) > 0
+    assert r["max_dev_deg"] <= r["bound_deg"] + 1e-9 or r["reused_finer"], r
+    assert r["faces"] > 0 and r["superfaces"] > 0
+PY
+then pass "--json: 5 parseable lines, deviation within bound"; else fail "--json lines wrong: $(cat "$work/json.txt")"; fi
+
+# 3. --output-levels writes only those
+"$tool" --output-levels 0,3 "$data/cow.off" "$work/sub" >/dev/null 2>&1 || fail "--output-levels: exit $?"
+[ "$(cd "$work/sub" 2>/dev/null && ls | tr '\n' ' ')" = "cow_LOD0.ply cow_LOD3.ply " ] &&
+  pass "--output-levels 0,3: two files" || fail "--output-levels 0,3 wrote: $(ls "$work/sub")"
+
+# 4. same files for 1 and 3 threads
+"$tool" --threads 1 "$data/bunny00.off" "$work/t1" >/dev/null 2>&1 || fail "--threads 1: exit $?"
+"$tool" --threads 3 "$data/bunny00.off" "$work/t3" >/dev/null 2>&1 || fail "--threads 3: exit $?"
+same=1
+for l in 4 3 2 1 0; do cmp -s "$work/t1/bunny00_LOD$l.ply" "$work/t3/bunny00_LOD$l.ply" || same=0; done
+[ $same -eq 1 ] && pass "--threads 1 and 3: byte-identical files" || fail "--threads changes the output"
+
+# 5. --paper-superfaces keeps the cell borders (more faces at the finest level of fandisk)
+"$tool" --paper-superfaces "$data/fandisk.off" "$work/paper" >/dev/null 2>&1 || fail "--paper-superfaces: exit $?"
+a=$(ply_faces "$work/json/fandisk_LOD4.ply") p=$(ply_faces "$work/paper/fandisk_LOD4.ply")
+[ "$p" -gt "$a" ] && pass "--paper-superfaces: LOD4 $p faces vs $a merged across cells" ||
+  fail "--paper-superfaces: LOD4 $p faces, default $a"
+
+# 6. errors: exit code and message
+expect() { # NAME CODE TEXT ARGS...
+  local name=$1 code=$2 text=$3; shift 3
+  "$tool" "$@" >"$work/$name.txt" 2>&1; local rc=$?
+  if [ $rc -eq "$code" ] && grep -q -- "$text" "$work/$name.txt"; then pass "$name: exit $rc, '$text'"
+  else fail "$name: exit $rc (want $code), output: $(cat "$work/$name.txt")"; fi
+}
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n' >"$work/points.ply"
+expect no_args 2 "usage:"
+expect unknown_option 2 "unknown option" --frobnicate "$data/cow.off" "$work/x"
+expect bad_levels 1 "number of levels must be between" --levels 0 "$data/cow.off" "$work/x"
+expect bad_output_levels 2 "is not a level index" --output-levels 9 "$data/cow.off" "$work/x"
+expect missing_input 1 "no such file" "$work/nothing.ply" "$work/x"
+expect point_cloud 1 "no faces" "$work/points.ply" "$work/x"
+expect unwritable 1 "cannot write" "$data/cow.off" /proc/gausslod-cannot-write-here
+
+echo "test_cli: $failures failure(s)"
+[ $failures -eq 0 ]
