@@ -128,33 +128,40 @@ inline size_t threadCount(int requested)
 	return std::max<size_t>(1, std::min<size_t>(n, 64));
 }
 
-/// Runs fn(begin, end, part) on [0, n) cut in up to `threads` contiguous parts (part 0 on the
-/// calling thread); an exception in any part is rethrown here.
+/// Runs fn(worker) for worker = 0 .. workers-1 at once, worker 0 on the calling thread; the first
+/// exception of a worker (in worker order) is rethrown here once all have finished.
 template <class Fn>
-void parallelRanges(size_t n, size_t threads, Fn fn)
+void onWorkers(size_t workers, Fn fn)
 {
-	const size_t parts = std::max<size_t>(1, std::min(threads, n / 4096 + 1));
-	if (parts == 1) {
-		fn(size_t(0), n, size_t(0));
+	if (workers <= 1) {
+		fn(size_t(0));
 		return;
 	}
-	std::vector<std::exception_ptr> error(parts);
-	auto run = [&](size_t p) {
+	std::vector<std::exception_ptr> error(workers);
+	auto run = [&](size_t w) {
 		try {
-			fn(n * p / parts, n * (p + 1) / parts, p);
+			fn(w);
 		} catch (...) {
-			error[p] = std::current_exception();
+			error[w] = std::current_exception();
 		}
 	};
 	std::vector<std::thread> pool;
-	for (size_t p = 1; p < parts; ++p)
-		pool.emplace_back(run, p);
+	for (size_t w = 1; w < workers; ++w)
+		pool.emplace_back(run, w);
 	run(0);
 	for (std::thread &t : pool)
 		t.join();
 	for (const std::exception_ptr &e : error)
 		if (e)
 			std::rethrow_exception(e);
+}
+
+/// Runs fn(begin, end, part) on [0, n) cut in up to `threads` contiguous parts.
+template <class Fn>
+void parallelRanges(size_t n, size_t threads, Fn fn)
+{
+	const size_t parts = std::max<size_t>(1, std::min(threads, n / 4096 + 1));
+	onWorkers(parts, [&](size_t p) { fn(n * p / parts, n * (p + 1) / parts, p); });
 }
 
 enum VertexClass : uint8_t { kFlat = 0, kEdge = 1, kCorner = 2 }; // = importance (2.3.2)

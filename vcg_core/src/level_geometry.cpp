@@ -11,8 +11,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <exception>
-#include <thread>
 
 namespace gausslod {
 namespace detail {
@@ -165,27 +163,18 @@ private:
 	template <class Fn>
 	void forEachChunk(Fn fn)
 	{
-		const size_t n = chunkStart_.size() - 1, nt = std::min(threads_, n);
+		const size_t n = chunkStart_.size() - 1;
 		std::atomic<size_t> next(0);
-		std::exception_ptr error;
-		std::atomic<bool> failed(false);
-		auto work = [&](size_t w) {
+		std::atomic<bool> failed(false); // (the others stop early; the error is rethrown)
+		onWorkers(std::min(threads_, n), [&](size_t w) {
 			try {
 				for (size_t c; !failed && (c = next++) < n;)
 					fn(c, scratch_[w]);
 			} catch (...) {
-				if (!failed.exchange(true))
-					error = std::current_exception();
+				failed = true;
+				throw;
 			}
-		};
-		std::vector<std::thread> pool;
-		for (size_t w = 1; w < nt; ++w)
-			pool.emplace_back(work, w);
-		work(0);
-		for (std::thread &th : pool)
-			th.join();
-		if (error)
-			std::rethrow_exception(error);
+		});
 	}
 
 	// Chunks of about the same number of faces (several per thread, for balance).
