@@ -176,19 +176,23 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 		int32_t a, b;
 		double dot;
 	};
+	std::vector<uint8_t> mergeable(n);
+	for (size_t s = 0; s < n; ++s)
+		mergeable[s] = p.cell[s] != kInvalidCell && mean[s].Norm() > 0 && radius[s] <= 2 * limit;
+	const double cos2Limit = std::cos(2 * limit);
 	std::vector<Pair> pairs;
 	for (size_t h = 0; h < t.twin.size(); ++h) {
 		const int32_t tw = t.twin[h];
 		if (tw < int32_t(h))
 			continue; // boundary (-1) or seen from the other side
 		const int32_t s = p.label[h / 3], w = p.label[size_t(heFace(tw))];
-		if (s == w || p.cell[size_t(s)] == kInvalidCell || p.cell[size_t(w)] == kInvalidCell)
+		if (s == w || !mergeable[size_t(s)] || !mergeable[size_t(w)])
 			continue;
-		const double room = 2 * limit - radius[size_t(s)] - radius[size_t(w)];
-		if (room < 0 || !(mean[size_t(s)].Norm() > 0) || !(mean[size_t(w)].Norm() > 0))
+		const double used = radius[size_t(s)] + radius[size_t(w)];
+		if (used > 2 * limit)
 			continue;
 		const double d = mean[size_t(s)].dot(mean[size_t(w)]);
-		if (d >= std::cos(room) - 1e-15)
+		if (d >= (used > 0 ? std::cos(2 * limit - used) : cos2Limit) - 1e-15)
 			pairs.push_back(Pair{std::min(s, w), std::max(s, w), d});
 	}
 	if (pairs.empty())

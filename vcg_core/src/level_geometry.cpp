@@ -850,7 +850,6 @@ private:
 		sfRingStart_.assign(p_.count() + 1, 0);
 		visited_.assign(3 * t_.nF, 0);
 		broken_.assign(p_.count(), 0);
-		std::vector<uint8_t> &broken = broken_;
 		for (size_t s = 0; s < p_.count(); ++s) {
 			sfRingStart_[s] = int32_t(ringStart_.size());
 			if (!dirty_[s])
@@ -858,7 +857,7 @@ private:
 			const size_t ringsBefore = ringStart_.size(), heBefore = ringHE_.size();
 			if (!traceRings(int32_t(s))) {
 				ringStart_.resize(ringsBefore), ringHE_.resize(heBefore);
-				broken[s] = 1;
+				broken_[s] = 1;
 			}
 		}
 		sfRingStart_[p_.count()] = int32_t(ringStart_.size());
