@@ -25,10 +25,10 @@ inline int32_t hePrev(int32_t h) { return h - h % 3 + (h % 3 + 2) % 3; }
 
 /// Groups n items by a key below nKeys (stable counting sort, linear time): afterwards the
 /// items with key k are order[start[k] .. start[k+1]), in their original order. `key(i)` gives
-/// item i's key; each bucket is then sorted by `less` (stable; buckets are small in practice).
-template <class KeyFn, class Less>
-void bucketSort(size_t n, size_t nKeys, KeyFn key, Less less, std::vector<int32_t> &start,
-                std::vector<int32_t> &order)
+/// item i's key.
+template <class KeyFn>
+void bucketByKey(size_t n, size_t nKeys, KeyFn key, std::vector<int32_t> &start,
+                 std::vector<int32_t> &order)
 {
 	start.assign(nKeys + 1, 0);
 	for (size_t i = 0; i < n; ++i)
@@ -36,11 +36,17 @@ void bucketSort(size_t n, size_t nKeys, KeyFn key, Less less, std::vector<int32_
 	for (size_t k = 0; k < nKeys; ++k)
 		start[k + 1] += start[k];
 	order.resize(n);
-	{
-		std::vector<int32_t> fill(start.begin(), start.end() - 1);
-		for (size_t i = 0; i < n; ++i)
-			order[size_t(fill[size_t(key(i))]++)] = int32_t(i);
-	}
+	std::vector<int32_t> fill(start.begin(), start.end() - 1);
+	for (size_t i = 0; i < n; ++i)
+		order[size_t(fill[size_t(key(i))]++)] = int32_t(i);
+}
+
+/// bucketByKey, then each bucket sorted by `less` (stable; buckets are small in practice).
+template <class KeyFn, class Less>
+void bucketSort(size_t n, size_t nKeys, KeyFn key, Less less, std::vector<int32_t> &start,
+                std::vector<int32_t> &order)
+{
+	bucketByKey(n, nKeys, key, start, order);
 	for (size_t k = 0; k < nKeys; ++k) {
 		if (start[k + 1] - start[k] < 2)
 			continue; // (also: no pointer arithmetic on an empty order)
@@ -55,7 +61,9 @@ void bucketSort(size_t n, size_t nKeys, KeyFn key, Less less, std::vector<int32_
 	}
 }
 
-/// Squared distance from p to triangle (a, b, c) (closest point by Voronoi regions).
+/// Squared distance from p to triangle (a, b, c) (closest point by Voronoi regions). VCG's
+/// TrianglePointDistance projects on the plane and takes square roots; this runs per candidate
+/// face on the flip check's hot path. (The tests check the result with VCG's.)
 inline double pointTriangleDistance2(const Vec3 &p, const Vec3 &a, const Vec3 &b, const Vec3 &c)
 {
 	const Vec3 ab = b - a, ac = c - a, ap = p - a;

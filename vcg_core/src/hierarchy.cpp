@@ -201,13 +201,13 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 	const double span = 1.0 - std::cos(2 * limit) + 1e-12;
 	constexpr size_t kBuckets = 16; // (few: pairs keep their memory order inside a bucket)
 	std::vector<int32_t> bstart, order;
-	bucketSort(
+	bucketByKey(
 	    pairs.size(), kBuckets,
 	    [&](size_t i) {
 		    const double x = (1.0 - pairs[i].dot) / span * double(kBuckets);
 		    return int32_t(std::min(double(kBuckets - 1), std::max(0.0, x)));
 	    },
-	    [](int32_t, int32_t) { return false; }, bstart, order);
+	    bstart, order);
 	// greedy union; a union keeps its normals in a cone of half-angle `limit` (any two within
 	// the level's bound, as inside one cell). One cache line per superface: the loop is bound by
 	// random memory accesses.
