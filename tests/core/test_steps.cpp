@@ -170,3 +170,20 @@ TEST(VicinityMerging, close_border_vertices_merge_and_the_chain_ends_survive)
 	EXPECT_EQ(f.nonManifoldEdges, 0u);
 	EXPECT_EQ(f.degenerateFaces, 0u);
 }
+
+TEST(Retriangulation, a_ring_projecting_onto_one_line_is_refused_and_a_square_is_not)
+{
+	// (found by the fuzzer: a flat-projected ring gave CGAL a 1-dimensional triangulation)
+	detail::TriangulationJob line;
+	line.xy = {0, 0, 1, 0, 2, 0, 3, 0};
+	line.ringStart = {0, 4};
+	line.queryXY = {1.5, 0};
+	EXPECT_FALSE(detail::triangulateRings(line));
+	detail::TriangulationJob square;
+	square.xy = {0, 0, 1, 0, 1, 1, 0, 1};
+	square.ringStart = {0, 4};
+	square.queryXY = {0.25, 0.5};
+	ASSERT_TRUE(detail::triangulateRings(square));
+	EXPECT_EQ(square.tris.size(), 6u);
+	EXPECT_GE(square.queryTri[0], 0);
+}

@@ -108,6 +108,8 @@ bool triangulateRings(TriangulationJob &job)
 			return false;
 		if (cdt.number_of_vertices() != n)
 			return false;
+		if (cdt.dimension() != 2)
+			return false; // every ring vertex projects onto one line: no area to triangulate
 		markNesting(cdt);
 		// Every ring edge must be an edge of the triangulation (not split by a vertex lying on it)
 		// with the superface on its left: rings are traced with the superface on their left.
