@@ -64,20 +64,20 @@ struct Piece {
 // What one chunk of consecutive superfaces produces; chunks are concatenated in order, so the
 // result does not depend on how many threads ran them.
 struct ChunkOut {
-	std::vector<int32_t> tris, triSf, outlines;
+	std::vector<int32_t> tris, triSf;
 	std::vector<uint8_t> triBorder, triNew;
 	std::vector<std::pair<int32_t, Failure>> failed;
 	std::vector<Piece> straight; ///< pieces left straight (see separateParallelChains)
 	size_t retriangulated = 0;
 	void swap(ChunkOut &o)
 	{
-		tris.swap(o.tris), triSf.swap(o.triSf), outlines.swap(o.outlines);
+		tris.swap(o.tris), triSf.swap(o.triSf);
 		triBorder.swap(o.triBorder), triNew.swap(o.triNew), failed.swap(o.failed);
 		straight.swap(o.straight), std::swap(retriangulated, o.retriangulated);
 	}
 	void clear()
 	{
-		tris.clear(), triSf.clear(), outlines.clear(), triBorder.clear(), triNew.clear();
+		tris.clear(), triSf.clear(), triBorder.clear(), triNew.clear();
 		failed.clear(), straight.clear();
 		retriangulated = 0;
 	}
@@ -86,7 +86,8 @@ struct ChunkOut {
 // Per-thread scratch.
 struct Scratch {
 	TriangulationJob job;
-	std::vector<int32_t> ringVerts, ringVertStart, seq, stack, outline;
+	std::vector<int32_t> ringVerts, ringVertStart, seq, stack;
+	std::vector<uint64_t> edgesNow, edgesBefore; // directed border edges (see reuse)
 	std::vector<Vec3> triNormal, centroid;
 	std::vector<double> ownDist2;
 	std::vector<uint8_t> covered;
@@ -875,25 +876,21 @@ private:
 		});
 		// concatenate the chunks (offsets in cache_ were chunk-relative), freeing each one once
 		// appended (together they would double the level's peak memory)
-		size_t nt = 0, no = 0;
+		size_t nt = 0;
 		for (const ChunkOut &o : chunks_)
-			nt += o.triSf.size(), no += o.outlines.size();
+			nt += o.triSf.size();
 		tris_.reserve(3 * nt), triSf_.reserve(nt), triBorder_.reserve(nt), triNew_.reserve(nt);
-		cachedOutlines_.clear();
-		cachedOutlines_.reserve(no);
 		for (size_t c = 0; c < chunks_.size(); ++c) {
 			ChunkOut &o = chunks_[c];
-			const int32_t triBase = int32_t(triSf_.size()), outBase = int32_t(cachedOutlines_.size());
+			const int32_t triBase = int32_t(triSf_.size());
 			for (int32_t sf = chunkStart_[c]; sf < chunkStart_[c + 1]; ++sf) {
 				Cached &cc = cache_[size_t(sf)];
 				cc.triBegin += triBase, cc.triEnd += triBase;
-				cc.outlineBegin += outBase, cc.outlineEnd += outBase;
 			}
 			tris_.insert(tris_.end(), o.tris.begin(), o.tris.end());
 			triSf_.insert(triSf_.end(), o.triSf.begin(), o.triSf.end());
 			triBorder_.insert(triBorder_.end(), o.triBorder.begin(), o.triBorder.end());
 			triNew_.insert(triNew_.end(), o.triNew.begin(), o.triNew.end());
-			cachedOutlines_.insert(cachedOutlines_.end(), o.outlines.begin(), o.outlines.end());
 			failed_.insert(failed_.end(), o.failed.begin(), o.failed.end());
 			retriangulated_ += o.retriangulated;
 			ChunkOut().swap(o);
@@ -904,7 +901,7 @@ private:
 	}
 
 	// One superface of a round: copied from the previous round when nothing around it changed,
-	// else its outline is compared with the previous round's, else it is re-triangulated.
+	// else its border is compared with the previous round's, else it is re-triangulated.
 	void buildSuperface(int32_t s, Scratch &w, ChunkOut &o)
 	{
 		const size_t before = o.triSf.size();
@@ -913,26 +910,17 @@ private:
 		if (!dirty_[size_t(s)]) { // unchanged since the previous round
 			const Cached &pc = prevCache_[size_t(prevLabel_[size_t(sfFace_[size_t(sfStart_[size_t(s)])])])];
 			c = pc;
-			c.outlineBegin = int32_t(o.outlines.size());
-			o.outlines.insert(o.outlines.end(), prevOutlines_.begin() + pc.outlineBegin,
-			                  prevOutlines_.begin() + pc.outlineEnd);
-			c.outlineEnd = int32_t(o.outlines.size());
 			copyPrevious(s, pc, o);
 			c.triBegin = int32_t(before);
 			c.triEnd = int32_t(o.triSf.size());
 			return;
 		}
-		std::vector<int32_t> &outline = w.outline;
-		keptOutline(s, outline);
 		c.firstFace = sfFace_[size_t(sfStart_[size_t(s)])];
 		c.faceCount = sfStart_[size_t(s) + 1] - sfStart_[size_t(s)];
-		c.outlineBegin = int32_t(o.outlines.size());
-		o.outlines.insert(o.outlines.end(), outline.begin(), outline.end());
-		c.outlineEnd = int32_t(o.outlines.size());
 		Failure f = Failure::None;
 		if (broken_[size_t(s)])
 			f = Failure::Fold;
-		else if (!reuse(s, c, outline, o))
+		else if (!reuse(s, c, w, o))
 			f = retriangulate(s, w, o);
 		if (f != Failure::None) {
 			truncate(o, before);
@@ -948,7 +936,6 @@ private:
 	void keepForReuse()
 	{
 		prevCache_.swap(cache_);
-		prevOutlines_.swap(cachedOutlines_);
 		prevLabel_ = p_.label;
 		prevTris_.swap(tris_);
 		prevTriBorder_.swap(triBorder_);
@@ -958,41 +945,64 @@ private:
 
 	// ---------------------------------------------------------- reuse across fallback rounds
 	// A superface with the same faces (same first face and count: partitions only get finer
-	// between rounds) and the same kept border vertices as in the previous round has the same
-	// triangulation: copy it instead of recomputing (a fallback only changes a few superfaces).
+	// between rounds) and the same border between kept vertices as in the previous round has a
+	// valid triangulation already: copy it instead of recomputing (a fallback only changes a few
+	// superfaces).
 	struct Cached {
-		int32_t firstFace = -1, faceCount = 0, outlineBegin = 0, outlineEnd = 0;
+		int32_t firstFace = -1, faceCount = 0;
 		int32_t triBegin = 0, triEnd = 0;
 		bool ok = false, retriangulated = false;
 	};
 	std::vector<Cached> prevCache_, cache_;
-	std::vector<int32_t> prevLabel_, prevTris_, prevOutlines_, cachedOutlines_;
+	std::vector<int32_t> prevLabel_, prevTris_;
 	std::vector<uint8_t> prevTriBorder_, prevTriNew_;
 	std::vector<float> prevFaceDev_;
 
-	// The kept vertices of every ring of s, rings separated by -1.
-	void keptOutline(int32_t s, std::vector<int32_t> &out) const
-	{
-		out.clear();
-		for (int32_t r = sfRingStart_[size_t(s)]; r < sfRingStart_[size_t(s) + 1]; ++r) {
-			for (int32_t i = ringStart_[size_t(r)]; i < ringStart_[size_t(r) + 1]; ++i) {
-				const int32_t v = t_.heFrom(ringHE_[size_t(i)]);
-				if (keep_[size_t(v)])
-					out.push_back(v);
-			}
-			out.push_back(-1);
-		}
-	}
+	static uint64_t directedEdge(int32_t a, int32_t b) { return uint64_t(uint32_t(a)) << 32 | uint32_t(b); }
 
-	bool reuse(int32_t s, const Cached &now, const std::vector<int32_t> &outline, ChunkOut &o)
+	// The previous round's triangles of a superface are reused when its faces are the same and
+	// its border edges (the triangles' border-flagged edges, directed with the superface on their
+	// left) are this round's ring edges between kept vertices: every successful triangulation
+	// has exactly its rings' edges as border edges, so this compares the kept outlines without
+	// storing them (as a multiset: rings are traced in a fixed order, but a different start or
+	// ring order would describe the same domain).
+	bool reuse(int32_t s, const Cached &now, Scratch &w, ChunkOut &o)
 	{
 		if (prevCache_.empty())
 			return false;
 		const int32_t ps = prevLabel_[size_t(now.firstFace)];
 		const Cached &c = prevCache_[size_t(ps)];
-		if (!c.ok || c.firstFace != now.firstFace || c.faceCount != now.faceCount ||
-		    c.outlineEnd - c.outlineBegin != int32_t(outline.size()) ||
-		    !std::equal(outline.begin(), outline.end(), prevOutlines_.begin() + c.outlineBegin))
+		if (!c.ok || c.firstFace != now.firstFace || c.faceCount != now.faceCount)
+			return false;
+		w.edgesBefore.clear();
+		for (int32_t k = c.triBegin; k < c.triEnd; ++k)
+			for (int e = 0; e < 3; ++e)
+				if (prevTriBorder_[size_t(k)] & (1u << e))
+					w.edgesBefore.push_back(directedEdge(prevTris_[3 * size_t(k) + size_t(e)],
+					                                     prevTris_[3 * size_t(k) + size_t(e + 1) % 3]));
+		w.edgesNow.clear();
+		for (int32_t r = sfRingStart_[size_t(s)]; r < sfRingStart_[size_t(s) + 1]; ++r) {
+			int32_t first = -1, prev = -1;
+			for (int32_t i = ringStart_[size_t(r)]; i < ringStart_[size_t(r) + 1]; ++i) {
+				const int32_t v = t_.heFrom(ringHE_[size_t(i)]);
+				if (!keep_[size_t(v)])
+					continue;
+				if (prev >= 0)
+					w.edgesNow.push_back(directedEdge(prev, v));
+				else
+					first = v;
+				prev = v;
+			}
+			if (prev >= 0)
+				w.edgesNow.push_back(directedEdge(prev, first));
+			if (w.edgesNow.size() > w.edgesBefore.size())
+				return false;
+		}
+		if (w.edgesNow.size() != w.edgesBefore.size())
+			return false;
+		std::sort(w.edgesNow.begin(), w.edgesNow.end());
+		std::sort(w.edgesBefore.begin(), w.edgesBefore.end());
+		if (w.edgesNow != w.edgesBefore)
 			return false;
 		copyPrevious(s, c, o);
 		return true;
@@ -1110,34 +1120,59 @@ private:
 		canonicalize(p_);
 	}
 
+	template <class V>
+	static void release(V &v)
+	{
+		V().swap(v);
+	}
+
+	// Frees what only the rounds needed, before the level's output is allocated (the level's
+	// peak memory is otherwise here).
+	void releaseRounds()
+	{
+		release(sfStart_), release(sfFace_), release(border_), release(degree_);
+		release(junction_), release(keep_), release(extraLock_), release(changed_);
+		release(changedList_), release(relabeled_), release(failedFace_), release(lockedNow_);
+		release(dirty_), release(ringHE_), release(ringStart_), release(sfRingStart_);
+		release(visited_), release(broken_), release(pieces_), release(failed_);
+		release(triNew_), release(scratch_), release(chunkStart_), release(chunks_);
+		release(prevCache_), release(cache_), release(prevLabel_), release(prevTris_);
+		release(prevTriBorder_), release(prevTriNew_), release(prevFaceDev_);
+	}
+
 	// ---------------------------------------------------------------------------- output
 	void finish(size_t fallbacks)
 	{
+		releaseRounds();
 		std::vector<int32_t> remap(t_.nV, -1);
 		for (int32_t v : tris_)
 			remap[size_t(v)] = 0;
-		out_.positions.clear();
-		out_.sourceVertex.clear();
 		int32_t next = 0;
+		for (size_t v = 0; v < t_.nV; ++v)
+			if (remap[v] >= 0)
+				remap[v] = next++;
+		out_.positions.resize(3 * size_t(next));
+		out_.sourceVertex.resize(size_t(next));
 		for (size_t v = 0; v < t_.nV; ++v) {
 			if (remap[v] < 0)
 				continue;
-			remap[v] = next++;
-			out_.sourceVertex.push_back(int32_t(v));
-			for (int k = 0; k < 3; ++k)
-				out_.positions.push_back(t_.P[3 * v + size_t(k)]);
+			const size_t o = size_t(remap[v]);
+			out_.sourceVertex[o] = int32_t(v);
+			for (size_t k = 0; k < 3; ++k)
+				out_.positions[3 * o + k] = t_.P[3 * v + k];
 		}
-		out_.triangles.resize(tris_.size());
-		for (size_t k = 0; k < tris_.size(); ++k)
-			out_.triangles[k] = remap[size_t(tris_[k])];
-		out_.superface = triSf_;
+		for (int32_t &v : tris_)
+			v = remap[size_t(v)];
+		release(remap);
+		out_.triangles = std::move(tris_);
+		out_.superface = std::move(triSf_);
 		out_.inputSuperface = p_.label;
-		out_.borderEdges = triBorder_;
+		out_.borderEdges = std::move(triBorder_);
 
 		LevelStats &st = out_.stats;
 		st.level = p_.level;
 		st.boundDeg = levelBoundDeg(p_.level);
-		st.faces = tris_.size() / 3;
+		st.faces = out_.triangles.size() / 3;
 		st.vertices = size_t(next);
 		st.superfaces = p_.count();
 		st.fallbacks = fallbacks;
