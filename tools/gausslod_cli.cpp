@@ -3,15 +3,18 @@
 // Writes OUTDIR/<name>_LOD<i>.ply per level and prints a per-level table (or JSON lines).
 #include "gausslod/gausslod.h"
 #include "gausslod/io_mesh.h"
+#include "gausslod/level_ply.h"
 #include "gausslod/vcg_adapter.h"
 
 #include <vcg/complex/complex.h>
-#include <wrap/io_trimesh/export_ply.h>
 #include <wrap/io_trimesh/import.h>
 
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <string>
 #include <sys/stat.h>
 
@@ -50,6 +53,12 @@ bool parseDouble(const char *s, double &out)
 
 int main(int argc, char **argv)
 {
+#ifdef __GLIBC__
+	// glibc raises its mmap threshold to the size of the largest block freed so far, after which
+	// arrays of a few MB freed between rounds and levels stay in the process: a fixed threshold
+	// gives them back (peak resident memory on a 1M-face mesh 277 -> 235 MB, same time).
+	mallopt(M_MMAP_THRESHOLD, 4 << 20);
+#endif
 	gausslod::Params params;
 	double straightenPct = 0.5, mergePct = 0.25;
 	bool colour = true, json = false;
@@ -171,15 +180,8 @@ int main(int argc, char **argv)
 		}
 		const gausslod::LevelStats &s = lm.stats;
 		const std::string file = outdir + "/" + name + "_LOD" + std::to_string(s.level) + ".ply";
-		{
-			CMesh out;
-			gausslod::toVcgMesh(lm, out, colour, false);
-			const int m = colour ? vcg::tri::io::Mask::IOM_FACECOLOR : 0;
-			if (vcg::tri::io::ExporterPLY<CMesh>::Save(out, file.c_str(), m, true) != 0) {
-				writeError = "cannot write " + file;
-				return false;
-			}
-		}
+		if (!gausslod::writeLevelPly(lm, file, colour, writeError))
+			return false;
 		if (json)
 			std::printf("{\"level\":%d,\"faces\":%zu,\"vertices\":%zu,\"superfaces\":%zu,"
 			            "\"fallbacks\":%zu,\"retriangulated\":%zu,\"bound_deg\":%.4f,"
