@@ -127,7 +127,12 @@ Result buildLevels(const MeshView &mesh, const Params &params, const Progress &p
 				for (CellKey &c : p.cell)
 					c = c == kInvalidCell ? c : parentKey(c);
 				LevelStats spent = lm.stats; // the time was spent all the same
-				lm = finer;
+				lm = std::move(finer);
+				lm.positions.resize(3 * lm.sourceVertex.size()); // (dropped from `finer`, below)
+				for (size_t v = 0; v < lm.sourceVertex.size(); ++v)
+					for (size_t k = 0; k < 3; ++k)
+						lm.positions[3 * v + k] = mesh.positions[3 * size_t(lm.sourceVertex[v]) + k];
+				lm.inputSuperface = p.label;
 				lm.stats.secondsPartition = spent.secondsPartition;
 				lm.stats.secondsBorders = spent.secondsBorders;
 				lm.stats.secondsTriangulation = spent.secondsTriangulation;
@@ -152,6 +157,10 @@ Result buildLevels(const MeshView &mesh, const Params &params, const Progress &p
 				res.levels.back().stats = lm.stats;
 			}
 			finer = std::move(lm);
+			// (kept for a coarser level that comes out with more faces; until then its positions
+			// and input labels are only memory: they are rebuilt from the input and the partition)
+			std::vector<double>().swap(finer.positions);
+			std::vector<int32_t>().swap(finer.inputSuperface);
 		}
 		if (!report(1.0, "done"))
 			return res;

@@ -160,6 +160,12 @@ private:
 	std::vector<int32_t> chunkStart_;    // chunk c = superfaces [chunkStart_[c], chunkStart_[c+1])
 	std::vector<ChunkOut> chunks_;
 
+	template <class V>
+	static void release(V &v)
+	{
+		V().swap(v);
+	}
+
 	// Runs fn(chunk, scratch) for every chunk, on up to threads_ threads.
 	template <class Fn>
 	void forEachChunk(Fn fn)
@@ -831,7 +837,9 @@ private:
 	void buildOnce(bool patch)
 	{
 		failed_.clear();
-		tris_.clear(), triSf_.clear(), triBorder_.clear(), triNew_.clear();
+		// (freed, not cleared: they are rebuilt from the chunks, which hold this round's triangles
+		// meanwhile)
+		release(tris_), release(triSf_), release(triBorder_), release(triNew_);
 		retriangulated_ = 0;
 		faceDev_.assign(t_.nF, -1.0f);
 		groupFaces();
@@ -1118,12 +1126,6 @@ private:
 			touched.clear();
 		}
 		canonicalize(p_);
-	}
-
-	template <class V>
-	static void release(V &v)
-	{
-		V().swap(v);
 	}
 
 	// Frees what only the rounds needed, before the level's output is allocated (the level's
