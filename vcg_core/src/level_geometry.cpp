@@ -64,20 +64,19 @@ struct Piece {
 // What one chunk of consecutive superfaces produces; chunks are concatenated in order, so the
 // result does not depend on how many threads ran them.
 struct ChunkOut {
-	std::vector<int32_t> tris, triSf;
-	std::vector<uint8_t> triBorder, triNew;
+	std::vector<int32_t> tris;       ///< (the superface of a triangle is known from cache_ ranges)
+	std::vector<uint8_t> triBorder; ///< border edge bits | kNewTriangle
 	std::vector<std::pair<int32_t, Failure>> failed;
 	std::vector<Piece> straight; ///< pieces left straight (see separateParallelChains)
 	size_t retriangulated = 0;
 	void swap(ChunkOut &o)
 	{
-		tris.swap(o.tris), triSf.swap(o.triSf);
-		triBorder.swap(o.triBorder), triNew.swap(o.triNew), failed.swap(o.failed);
+		tris.swap(o.tris), triBorder.swap(o.triBorder), failed.swap(o.failed);
 		straight.swap(o.straight), std::swap(retriangulated, o.retriangulated);
 	}
 	void clear()
 	{
-		tris.clear(), triSf.clear(), triBorder.clear(), triNew.clear();
+		tris.clear(), triBorder.clear();
 		failed.clear(), straight.clear();
 		retriangulated = 0;
 	}
@@ -151,7 +150,7 @@ private:
 	std::vector<std::pair<int32_t, Failure>> failed_;
 	// output of a round
 	std::vector<int32_t> tris_, triSf_;
-	std::vector<uint8_t> triBorder_, triNew_;
+	std::vector<uint8_t> triBorder_;          // per triangle: border edge bits | kNewTriangle
 	std::vector<float> faceDev_;              // per input face, degrees; -1 = not measured
 	size_t retriangulated_ = 0;
 	// work split in chunks of consecutive superfaces, run on threads_ threads
@@ -570,12 +569,14 @@ private:
 	}
 
 	// ------------------------------------------------------------------- 2.4 re-triangulation
-	static void emit(ChunkOut &o, int32_t a, int32_t b, int32_t c, int32_t s, uint8_t borderBits, bool isNew)
+	// a triangle's flags: bit k = edge (k, k+1) is a superface border; kNewTriangle = made by
+	// re-triangulation (not an input face)
+	static constexpr uint8_t kBorderBits = 7, kNewTriangle = 8;
+
+	static void emit(ChunkOut &o, int32_t a, int32_t b, int32_t c, uint8_t borderBits, bool isNew)
 	{
 		o.tris.push_back(a), o.tris.push_back(b), o.tris.push_back(c);
-		o.triSf.push_back(s);
-		o.triBorder.push_back(borderBits);
-		o.triNew.push_back(isNew);
+		o.triBorder.push_back(uint8_t(borderBits | (isNew ? kNewTriangle : 0)));
 	}
 
 	Failure retriangulate(int32_t s, Scratch &w, ChunkOut &o)
@@ -585,7 +586,7 @@ private:
 			for (int32_t i = fb; i < fe; ++i) {
 				const int32_t f = sfFace_[size_t(i)];
 				if (!t_.faceDropped[size_t(f)])
-					emit(o, t_.T[3 * f], t_.T[3 * f + 1], t_.T[3 * f + 2], s, 7, false);
+					emit(o, t_.T[3 * f], t_.T[3 * f + 1], t_.T[3 * f + 2], 7, false);
 			}
 			return Failure::None;
 		}
@@ -611,7 +612,7 @@ private:
 				uint8_t bits = 0;
 				for (int k = 0; k < 3; ++k)
 					bits |= uint8_t(border_[size_t(3 * f + k)] << k);
-				emit(o, t_.T[3 * f], t_.T[3 * f + 1], t_.T[3 * f + 2], s, bits, false);
+				emit(o, t_.T[3 * f], t_.T[3 * f + 1], t_.T[3 * f + 2], bits, false);
 				faceDev_[size_t(f)] = 0;
 			}
 			return Failure::None;
@@ -633,7 +634,7 @@ private:
 			return Failure::Ring;
 		const size_t firstTri = o.tris.size() / 3;
 		if (w.ringVertStart.size() == 2 && w.ringVerts.size() == 3) { // one triangle
-			emit(o, w.ringVerts[0], w.ringVerts[1], w.ringVerts[2], s, 7, true);
+			emit(o, w.ringVerts[0], w.ringVerts[1], w.ringVerts[2], 7, true);
 		} else {
 			// project on the plane orthogonal to the area-weighted normal (U x V = N)
 			const Vec3 U = (std::fabs(N[0]) < 0.9 ? N ^ Vec3(1, 0, 0) : N ^ Vec3(0, 1, 0)).Normalize();
@@ -658,7 +659,7 @@ private:
 				return Failure::Ring;
 			for (size_t k = 0; k < w.job.tris.size(); k += 3)
 				emit(o, w.ringVerts[size_t(w.job.tris[k])], w.ringVerts[size_t(w.job.tris[k + 1])],
-				     w.ringVerts[size_t(w.job.tris[k + 2])], s, w.job.constrained[k / 3], true);
+				     w.ringVerts[size_t(w.job.tris[k + 2])], w.job.constrained[k / 3], true);
 		}
 		// measured normal deviation; a triangle flipped (>90 deg) against an input face fails
 		const size_t ntri = o.tris.size() / 3 - firstTri;
@@ -754,9 +755,7 @@ private:
 	static void truncate(ChunkOut &o, size_t triCount)
 	{
 		o.tris.resize(3 * triCount);
-		o.triSf.resize(triCount);
 		o.triBorder.resize(triCount);
-		o.triNew.resize(triCount);
 	}
 
 	// ------------------------------------------------------------- validity of the whole level
@@ -768,7 +767,7 @@ private:
 		// k (edge k -> k+1) of such edges, grouped by the edge's smaller vertex, then larger
 		std::vector<uint8_t> onNew(t_.nV, 0);
 		for (size_t k = 0; k < tris_.size(); ++k)
-			if (triNew_[k / 3])
+			if (triBorder_[k / 3] & kNewTriangle)
 				onNew[size_t(tris_[k])] = 1;
 		auto other = [&](size_t k) { return tris_[k - k % 3 + (k % 3 + 1) % 3]; };
 		std::vector<int32_t> corner;
@@ -794,7 +793,7 @@ private:
 				const size_t cnt = size_t(j - i);
 				bool anyNew = false;
 				for (int32_t q = i; q < j; ++q)
-					anyNew = anyNew || triNew_[size_t(order[size_t(q)]) / 3];
+					anyNew = anyNew || (triBorder_[size_t(order[size_t(q)]) / 3] & kNewTriangle);
 				auto reversed = [&](int32_t q) {
 					const size_t k = size_t(order[size_t(q)]);
 					return tris_[k] > other(k);
@@ -816,7 +815,7 @@ private:
 						if ((cnt > 2 && int(cnt) > inputCnt) || (sameDir && !inputSameDir))
 							for (int32_t q = i; q < j; ++q) {
 								const size_t tri = size_t(order[size_t(q)]) / 3;
-								if (triNew_[tri])
+								if (triBorder_[tri] & kNewTriangle)
 									bad[size_t(triSf_[tri])] = 1;
 							}
 					}
@@ -839,7 +838,7 @@ private:
 		failed_.clear();
 		// (freed, not cleared: they are rebuilt from the chunks, which hold this round's triangles
 		// meanwhile)
-		release(tris_), release(triSf_), release(triBorder_), release(triNew_);
+		release(tris_), release(triSf_), release(triBorder_);
 		retriangulated_ = 0;
 		faceDev_.assign(t_.nF, -1.0f);
 		groupFaces();
@@ -857,8 +856,8 @@ private:
 		ringHE_.clear();
 		ringStart_.clear();
 		sfRingStart_.assign(p_.count() + 1, 0);
-		visited_.assign(3 * t_.nF, 0);
 		broken_.assign(p_.count(), 0);
+		visited_.assign(3 * t_.nF, 0);
 		for (size_t s = 0; s < p_.count(); ++s) {
 			sfRingStart_[s] = int32_t(ringStart_.size());
 			if (!dirty_[s])
@@ -869,6 +868,7 @@ private:
 				broken_[s] = 1;
 			}
 		}
+		release(visited_); // (only the tracing needs it)
 		sfRingStart_[p_.count()] = int32_t(ringStart_.size());
 		ringStart_.push_back(int32_t(ringHE_.size()));
 		makeChunks();
@@ -882,23 +882,25 @@ private:
 			for (int32_t sf = chunkStart_[c]; sf < chunkStart_[c + 1]; ++sf)
 				buildSuperface(sf, w, chunks_[c]);
 		});
+		// the previous round is copied from by now: freed before the chunks are concatenated
+		release(prevCache_), release(prevLabel_), release(prevTris_), release(prevTriBorder_);
+		release(prevFaceDev_);
 		// concatenate the chunks (offsets in cache_ were chunk-relative), freeing each one once
 		// appended (together they would double the level's peak memory)
 		size_t nt = 0;
 		for (const ChunkOut &o : chunks_)
-			nt += o.triSf.size();
-		tris_.reserve(3 * nt), triSf_.reserve(nt), triBorder_.reserve(nt), triNew_.reserve(nt);
+			nt += o.triBorder.size();
+		tris_.reserve(3 * nt), triSf_.reserve(nt), triBorder_.reserve(nt);
 		for (size_t c = 0; c < chunks_.size(); ++c) {
 			ChunkOut &o = chunks_[c];
-			const int32_t triBase = int32_t(triSf_.size());
+			const int32_t triBase = int32_t(triBorder_.size());
 			for (int32_t sf = chunkStart_[c]; sf < chunkStart_[c + 1]; ++sf) {
 				Cached &cc = cache_[size_t(sf)];
 				cc.triBegin += triBase, cc.triEnd += triBase;
+				triSf_.insert(triSf_.end(), size_t(cc.triEnd - cc.triBegin), sf);
 			}
 			tris_.insert(tris_.end(), o.tris.begin(), o.tris.end());
-			triSf_.insert(triSf_.end(), o.triSf.begin(), o.triSf.end());
 			triBorder_.insert(triBorder_.end(), o.triBorder.begin(), o.triBorder.end());
-			triNew_.insert(triNew_.end(), o.triNew.begin(), o.triNew.end());
 			failed_.insert(failed_.end(), o.failed.begin(), o.failed.end());
 			retriangulated_ += o.retriangulated;
 			ChunkOut().swap(o);
@@ -912,7 +914,7 @@ private:
 	// else its border is compared with the previous round's, else it is re-triangulated.
 	void buildSuperface(int32_t s, Scratch &w, ChunkOut &o)
 	{
-		const size_t before = o.triSf.size();
+		const size_t before = o.triBorder.size();
 		const size_t retriBefore = o.retriangulated;
 		Cached &c = cache_[size_t(s)];
 		if (!dirty_[size_t(s)]) { // unchanged since the previous round
@@ -920,10 +922,9 @@ private:
 			c = pc;
 			copyPrevious(s, pc, o);
 			c.triBegin = int32_t(before);
-			c.triEnd = int32_t(o.triSf.size());
+			c.triEnd = int32_t(o.triBorder.size());
 			return;
 		}
-		c.firstFace = sfFace_[size_t(sfStart_[size_t(s)])];
 		c.faceCount = sfStart_[size_t(s) + 1] - sfStart_[size_t(s)];
 		Failure f = Failure::None;
 		if (broken_[size_t(s)])
@@ -937,7 +938,7 @@ private:
 		c.ok = f == Failure::None;
 		c.retriangulated = o.retriangulated > retriBefore;
 		c.triBegin = int32_t(before);
-		c.triEnd = int32_t(o.triSf.size());
+		c.triEnd = int32_t(o.triBorder.size());
 	}
 
 	// What the next round may reuse (before the fallbacks change the labels).
@@ -947,23 +948,22 @@ private:
 		prevLabel_ = p_.label;
 		prevTris_.swap(tris_);
 		prevTriBorder_.swap(triBorder_);
-		prevTriNew_.swap(triNew_);
 		prevFaceDev_.swap(faceDev_);
 	}
 
 	// ---------------------------------------------------------- reuse across fallback rounds
-	// A superface with the same faces (same first face and count: partitions only get finer
-	// between rounds) and the same border between kept vertices as in the previous round has a
+	// A superface with the same faces (its first face's previous superface, and as many faces:
+	// partitions only get finer between rounds) and the same border between kept vertices as in the previous round has a
 	// valid triangulation already: copy it instead of recomputing (a fallback only changes a few
 	// superfaces).
 	struct Cached {
-		int32_t firstFace = -1, faceCount = 0;
+		int32_t faceCount = 0;
 		int32_t triBegin = 0, triEnd = 0;
 		bool ok = false, retriangulated = false;
 	};
 	std::vector<Cached> prevCache_, cache_;
 	std::vector<int32_t> prevLabel_, prevTris_;
-	std::vector<uint8_t> prevTriBorder_, prevTriNew_;
+	std::vector<uint8_t> prevTriBorder_;
 	std::vector<float> prevFaceDev_;
 
 	static uint64_t directedEdge(int32_t a, int32_t b) { return uint64_t(uint32_t(a)) << 32 | uint32_t(b); }
@@ -978,9 +978,9 @@ private:
 	{
 		if (prevCache_.empty())
 			return false;
-		const int32_t ps = prevLabel_[size_t(now.firstFace)];
+		const int32_t ps = prevLabel_[size_t(sfFace_[size_t(sfStart_[size_t(s)])])];
 		const Cached &c = prevCache_[size_t(ps)];
-		if (!c.ok || c.firstFace != now.firstFace || c.faceCount != now.faceCount)
+		if (!c.ok || c.faceCount != now.faceCount) // (same count, same faces: see above)
 			return false;
 		w.edgesBefore.clear();
 		for (int32_t k = c.triBegin; k < c.triEnd; ++k)
@@ -1018,9 +1018,9 @@ private:
 
 	void copyPrevious(int32_t s, const Cached &c, ChunkOut &o)
 	{
-		for (int32_t k = c.triBegin; k < c.triEnd; ++k)
-			emit(o, prevTris_[3 * size_t(k)], prevTris_[3 * size_t(k) + 1], prevTris_[3 * size_t(k) + 2],
-			     s, prevTriBorder_[size_t(k)], prevTriNew_[size_t(k)]);
+		o.tris.insert(o.tris.end(), prevTris_.begin() + 3 * c.triBegin, prevTris_.begin() + 3 * c.triEnd);
+		o.triBorder.insert(o.triBorder.end(), prevTriBorder_.begin() + c.triBegin,
+		                   prevTriBorder_.begin() + c.triEnd);
 		for (int32_t i = sfStart_[size_t(s)]; i < sfStart_[size_t(s) + 1]; ++i) {
 			const int32_t f = sfFace_[size_t(i)];
 			faceDev_[size_t(f)] = prevFaceDev_[size_t(f)];
@@ -1137,9 +1137,9 @@ private:
 		release(changedList_), release(relabeled_), release(failedFace_), release(lockedNow_);
 		release(dirty_), release(ringHE_), release(ringStart_), release(sfRingStart_);
 		release(visited_), release(broken_), release(pieces_), release(failed_);
-		release(triNew_), release(scratch_), release(chunkStart_), release(chunks_);
+		release(scratch_), release(chunkStart_), release(chunks_);
 		release(prevCache_), release(cache_), release(prevLabel_), release(prevTris_);
-		release(prevTriBorder_), release(prevTriNew_), release(prevFaceDev_);
+		release(prevTriBorder_), release(prevFaceDev_);
 	}
 
 	// ---------------------------------------------------------------------------- output
@@ -1169,6 +1169,8 @@ private:
 		out_.triangles = std::move(tris_);
 		out_.superface = std::move(triSf_);
 		out_.inputSuperface = p_.label;
+		for (uint8_t &b : triBorder_)
+			b &= kBorderBits;
 		out_.borderEdges = std::move(triBorder_);
 
 		LevelStats &st = out_.stats;
