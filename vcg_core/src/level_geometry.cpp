@@ -882,9 +882,11 @@ private:
 			for (int32_t sf = chunkStart_[c]; sf < chunkStart_[c + 1]; ++sf)
 				buildSuperface(sf, w, chunks_[c]);
 		});
-		// the previous round is copied from by now: freed before the chunks are concatenated
+		// the previous round is copied from and the rings are triangulated by now: freed before
+		// the chunks are concatenated
 		release(prevCache_), release(prevLabel_), release(prevTris_), release(prevTriBorder_);
-		release(prevFaceDev_);
+		release(prevFaceDev_), release(ringHE_), release(ringStart_), release(sfRingStart_);
+		release(pieces_);
 		// concatenate the chunks (offsets in cache_ were chunk-relative), freeing each one once
 		// appended (together they would double the level's peak memory)
 		size_t nt = 0;
