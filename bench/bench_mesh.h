@@ -5,7 +5,7 @@
 
 #include <vcg/complex/complex.h>
 #include <wrap/io_trimesh/export_ply.h>
-#include <wrap/io_trimesh/import.h>
+#include "gausslod/import_mesh.h"
 
 #include <chrono>
 #include <cstdint>
@@ -27,13 +27,7 @@ inline double now()
 template <class MeshT>
 bool load(MeshT &m, const std::string &file, std::string &err)
 {
-	int mask = 0;
-	const int e = vcg::tri::io::Importer<MeshT>::Open(m, file.c_str(), mask);
-	if (e != 0 && vcg::tri::io::Importer<MeshT>::ErrorCritical(e)) {
-		err = vcg::tri::io::Importer<MeshT>::ErrorMsg(e);
-		return false;
-	}
-	return true;
+	return gausslod::importMesh(m, file, err); // (as the gausslod tool loads it)
 }
 
 /// Flat arrays (positions, triangles), skipping deleted elements.

@@ -2,12 +2,12 @@
 //   gausslod [options] INPUT(.ply|.obj|.off|.stl) OUTDIR
 // Writes OUTDIR/<name>_LOD<i>.ply per level and prints a per-level table (or JSON lines).
 #include "gausslod/gausslod.h"
+#include "gausslod/import_mesh.h"
 #include "gausslod/io_mesh.h"
 #include "gausslod/level_ply.h"
 #include "gausslod/vcg_adapter.h"
 
 #include <vcg/complex/complex.h>
-#include <wrap/io_trimesh/import.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -149,11 +149,9 @@ int main(int argc, char **argv)
 	gausslod::FlatMesh flat;
 	{ // the VCG mesh is freed once flattened (the engine works on the flat arrays)
 		CMesh mesh;
-		int mask = 0;
-		const int err = vcg::tri::io::Importer<CMesh>::Open(mesh, input.c_str(), mask);
-		if (err != 0 && vcg::tri::io::Importer<CMesh>::ErrorCritical(err)) {
-			std::fprintf(stderr, "gausslod: cannot read %s: %s\n", input.c_str(),
-			             vcg::tri::io::Importer<CMesh>::ErrorMsg(err));
+		std::string error;
+		if (!gausslod::importMesh(mesh, input, error)) {
+			std::fprintf(stderr, "gausslod: cannot read %s: %s\n", input.c_str(), error.c_str());
 			return 1;
 		}
 		flat = gausslod::flatten(mesh);

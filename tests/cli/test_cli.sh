@@ -75,5 +75,17 @@ expect missing_input 1 "no such file" "$work/nothing.ply" "$work/x"
 expect point_cloud 1 "no faces" "$work/points.ply" "$work/x"
 expect unwritable 1 "cannot write" "$data/cow.off" /proc/gausslod-cannot-write-here
 
+# 7. OFF files with lines of blanks (VCG's OFF reader alone crashes on them): Debian's CGAL data
+# file prim.off (a cube of 5 quads + 2 triangles, a blank line of two spaces) and a generated one
+"$tool" "$data/prim.off" "$work/prim" >"$work/prim.txt" 2>&1; rc=$?
+[ $rc -eq 0 ] && [ "$(ply_faces "$work/prim/prim_LOD0.ply")" = 12 ] &&
+  pass "prim.off (blank line of spaces): exit 0, a 12-triangle cube" || fail "prim.off: exit $rc: $(cat "$work/prim.txt")"
+printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n \t \n# faces\n3 0 2 1\n3 0 1 3\n\t\n3 1 2 3\n3 0 3 2\n' >"$work/tetra.off"
+"$tool" "$work/tetra.off" "$work/tetra" >"$work/tetra.txt" 2>&1; rc=$?
+[ $rc -eq 0 ] && [ "$(ply_faces "$work/tetra/tetra_LOD0.ply")" = 4 ] &&
+  pass "OFF with blank lines of spaces and tabs: a 4-triangle tetrahedron" || fail "tetra.off: exit $rc: $(cat "$work/tetra.txt")"
+printf 'OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1\n' >"$work/short_face.off"
+expect short_face 1 "cannot read" "$work/short_face.off" "$work/x"
+
 echo "test_cli: $failures failure(s)"
 [ $failures -eq 0 ]
