@@ -708,6 +708,51 @@ def bars(bench):
         L.append("Not measured.")
     L.append("")
 
+    # the issue: "report the Hausdorff ratio to the best of them honestly, and work it down"
+    L.append("### Hausdorff distance vs the best quadric method on CAD models (same face count)")
+    ratios, lines = [], []
+    seen = set()
+    for g in rows:
+        if g["method"] != "gausslod" or g.get("error") or "cad" not in models.get(g["model"], {}).get("groups", []):
+            continue
+        key = (g["model"], g["faces"], g.get("hausdorff_pct"))
+        if key in seen or g.get("hausdorff_pct") is None:
+            continue
+        seen.add(key)
+        best = None
+        for q in quad:
+            p = peer_row(g["model"], q, g["level"])
+            if p and not p.get("error") and p.get("hausdorff_pct") is not None:
+                if best is None or p["hausdorff_pct"] < best[1]:
+                    best = (q, p["hausdorff_pct"])
+        if best is None:
+            continue
+        zero = 1e-9  # % of the diagonal: double rounding
+        h, hb = g["hausdorff_pct"], best[1]
+        r = 1.0 if h <= zero and hb <= zero else (float("inf") if hb <= zero else max(h, zero) / hb)
+        ratios.append(r)
+        lines.append("%s L%d (%d faces): %.3g %% vs %.3g %% (%s): %s" % (
+            g["model"], g["level"], g["faces"], h, hb, LABEL[best[0]],
+            "inf" if r == float("inf") else "%.2f" % r))
+    if ratios:
+        finite = sorted(x for x in ratios if x != float("inf"))
+        med = finite[len(finite) // 2] if finite else float("nan")
+        L.append("GaussLOD's Hausdorff distance divided by the lowest of the four quadric methods' at the same "
+                 "face count, per CAD level (a level that reused the finer level's mesh counted once): "
+                 "%d comparisons, not higher in %d, median ratio %.2f, largest %s. The issue asks to report it "
+                 "and work it down (no fixed bar)." % (
+                     len(ratios), sum(1 for x in ratios if x <= 1.0), med,
+                     "inf" if max(ratios) == float("inf") else "%.2f" % max(ratios)))
+        L.append("")
+        L.append("<details><summary>every comparison (GaussLOD vs the best quadric method: ratio)</summary>")
+        L.append("")
+        for x in lines:
+            L.append("- " + x)
+        L.append("</details>")
+    else:
+        L.append("Not measured.")
+    L.append("")
+
     L.append("### Validity of GaussLOD's output (all models, all levels)")
     gl = [r for r in rows if r["method"] == "gausslod" and not r.get("error")]
     nm = sum(r.get("nonmanifold_edges", 0) for r in gl)
