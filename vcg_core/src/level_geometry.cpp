@@ -955,9 +955,9 @@ private:
 
 	// ---------------------------------------------------------- reuse across fallback rounds
 	// A superface with the same faces (its first face's previous superface, and as many faces:
-	// partitions only get finer between rounds) and the same border between kept vertices as in the previous round has a
-	// valid triangulation already: copy it instead of recomputing (a fallback only changes a few
-	// superfaces).
+	// partitions only get finer between rounds) and the same border between kept vertices as in
+	// the previous round has a valid triangulation already: copy it instead of recomputing (a
+	// fallback only changes a few superfaces).
 	struct Cached {
 		int32_t faceCount = 0;
 		int32_t triBegin = 0, triEnd = 0;
@@ -968,7 +968,10 @@ private:
 	std::vector<uint8_t> prevTriBorder_;
 	std::vector<float> prevFaceDev_;
 
-	static uint64_t directedEdge(int32_t a, int32_t b) { return uint64_t(uint32_t(a)) << 32 | uint32_t(b); }
+	static uint64_t directedEdge(int32_t a, int32_t b)
+	{
+		return uint64_t(uint32_t(a)) << 32 | uint32_t(b);
+	}
 
 	// The previous round's triangles of a superface are reused when its faces are the same and
 	// its border edges (the triangles' border-flagged edges, directed with the superface on their
