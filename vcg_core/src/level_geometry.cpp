@@ -19,6 +19,10 @@ namespace {
 
 constexpr double kRadToDeg = 57.295779513082320876798;
 constexpr int kMaxRounds = 64;
+// A superface that fails with straightened borders gets them straightened again with half the
+// tolerances, up to this many times, before its border vertices are locked.
+constexpr int kMaxTolSteps = 1;
+constexpr int kTolShift = 2;
 
 class Stopwatch {
 public:
@@ -49,7 +53,12 @@ double angleDeg(const Vec3 &a, const Vec3 &b)
 	return std::acos(std::max(-1.0, std::min(1.0, a.dot(b)))) * kRadToDeg;
 }
 
-enum class Failure : uint8_t { None, Ring, Fold };
+// Why a superface failed: Fold (its projection folds, or its rings could not be traced) goes
+// straight to the split; Deviation (an input face deviates from its new triangle more than the
+// limit: often a straightened border cutting across a slightly curved region) first retries with
+// tighter straightening; Ring (anything else) first locks the border. (Retrying the others with
+// tighter straightening too was measured: more faces at level 0 on cow and bumpy meshes.)
+enum class Failure : uint8_t { None, Ring, Fold, Deviation };
 
 // A chain of border edges between two junction vertices (or a closed loop with none), stored as a
 // range of a ring. Only one of the (up to) two superfaces sharing it processes it.
@@ -106,6 +115,7 @@ public:
 		tolerance_ = std::max(prm_.straightenTolerance, 1e-9 * t_.diagonal);
 		devLimit_ = prm_.deviationFactor > 0 ? prm_.deviationFactor * levelBoundDeg(p_.level) : 180.0;
 		extraLock_.assign(t_.nV, 0);
+		tolStep_.assign(t_.nF, 0);
 		threads_ = threadCount(prm_.threads);
 		scratch_.resize(threads_);
 		size_t fallbacks = 0;
@@ -138,6 +148,10 @@ private:
 	std::vector<uint8_t> border_;             // per half-edge
 	std::vector<int32_t> degree_;             // border edges per vertex
 	std::vector<uint8_t> junction_, keep_, extraLock_;
+	std::vector<uint8_t> tolStep_;            // per input face: its superface's border tolerances
+	                                          // were halved this many times (see applyFallbacks)
+	std::vector<int32_t> retightened_;        // border vertices of superfaces whose tolerances the
+	                                          // last fallbacks halved
 	std::vector<uint8_t> changed_;            // patch round: degree or junction status changed
 	std::vector<int32_t> changedList_;        // the vertices marked in changed_
 	std::vector<int32_t> relabeled_;          // faces whose superface the last fallbacks split
@@ -285,6 +299,8 @@ private:
 		for (int32_t v : lockedNow_)
 			if (bool(junction_[size_t(v)]) != isJunction(size_t(v)))
 				touch(v);
+		for (int32_t v : retightened_)
+			touch(v); // (its chains are simplified again, with the smaller tolerances)
 		for (int32_t v : changedList_) {
 			junction_[size_t(v)] = isJunction(size_t(v));
 			keep_[size_t(v)] = junction_[size_t(v)]; // non-junctions: their piece is recomputed
@@ -497,6 +513,18 @@ private:
 		}
 	}
 
+	// The tolerances of a chain: halved for each fallback step of either superface along it (a
+	// chain lies between the same two superfaces all along: a change of neighbour is a junction).
+	double pieceScale(const Piece &pc) const
+	{
+		const int32_t h = ringHE_[size_t(ringStart_[size_t(pc.ring)] + pc.start)];
+		int step = tolStep_[size_t(heFace(h))];
+		const int32_t tw = t_.twin[size_t(h)];
+		if (tw >= 0)
+			step = std::max<int>(step, tolStep_[size_t(heFace(tw))]);
+		return std::ldexp(1.0, -kTolShift * step);
+	}
+
 	// 2.3.1 straightening (Douglas-Peucker: split at the farthest vertex while it is farther than
 	// the tolerance) and 2.3.2 vicinity merging, on one piece's vertex sequence.
 	void simplifyPiece(Piece &pc, Scratch &w)
@@ -504,7 +532,9 @@ private:
 		loadSequence(pc, w);
 		const int32_t n = pc.len; // w.seq[0] and w.seq[n] are the ends
 		auto P = [&](int32_t i) { return t_.pos(w.seq[size_t(i)]); };
-		const double tol = tolerance_;
+		// (halved per fallback of either superface along the chain, see applyFallbacks)
+		const double scale = pieceScale(pc);
+		const double tol = std::max(tolerance_ * scale, 1e-9 * t_.diagonal);
 		int32_t &kept = pc.kept; // interior vertices kept
 		auto keepIdx = [&](int32_t i) {
 			if (!keep_[size_t(w.seq[size_t(i)])]) {
@@ -541,7 +571,8 @@ private:
 			}
 		}
 		ensureInterior(pc, w);
-		if (prm_.mergeDistance <= 0)
+		const double mergeDistance = prm_.mergeDistance * scale;
+		if (mergeDistance <= 0)
 			return;
 		// 2.3.2 vicinity merging: a kept interior vertex closer than the merge distance to a kept
 		// neighbour on its chain merges into it if it is not more important; corners only receive.
@@ -558,7 +589,7 @@ private:
 			const uint8_t cls = t_.vertexClass[size_t(v)];
 			const double dp = (P(i) - P(prev)).Norm(), dn = (P(i) - P(next)).Norm();
 			const int32_t into = dp <= dn ? prev : next;
-			const bool close = std::min(dp, dn) < prm_.mergeDistance;
+			const bool close = std::min(dp, dn) < mergeDistance;
 			if (close && cls != kCorner && cls <= t_.vertexClass[size_t(w.seq[size_t(into)])]) {
 				keep_[size_t(v)] = 0;
 				--kept;
@@ -690,7 +721,7 @@ private:
 				continue;
 			const double d = angleDeg(t_.faceNormal[size_t(f)], tn[size_t(k)]);
 			if (d > 90 || d > devLimit_)
-				return Failure::Ring;
+				return Failure::Deviation;
 			faceDev_[size_t(f)] = float(d);
 			w.covered[size_t(k)] = 1;
 			w.ownDist2[size_t(k)] = std::min(w.ownDist2[size_t(k)], faceDist2(w.centroid[size_t(k)], f));
@@ -1033,14 +1064,16 @@ private:
 		o.retriangulated += c.retriangulated;
 	}
 
-	// A failed superface first has its border locked (no straightening, no merging); if it still
-	// fails, it is split into its children of the next finer level; a single input face that
-	// fails gets its vertices locked (it is then kept as it is).
+	// A failed superface first has its border locked (no straightening, no merging) - after a
+	// deviation failure, first its chains are straightened and merged again with half the
+	// tolerances, up to kMaxTolSteps times; if it still fails, it is split into its children of
+	// the next finer level; a single input face that fails gets its vertices locked (it is then
+	// kept as it is). A fold of the projection skips to the split.
 	void applyFallbacks()
 	{
 		// sfStart_/sfFace_ are those of the round that just failed: labels have not changed yet
 		std::vector<uint8_t> split(p_.count(), 0);
-		relabeled_.clear(), failedFace_.clear(), lockedNow_.clear();
+		relabeled_.clear(), failedFace_.clear(), lockedNow_.clear(), retightened_.clear();
 		auto lock = [&](int32_t v) {
 			if (!extraLock_[size_t(v)]) {
 				extraLock_[size_t(v)] = 1;
@@ -1058,7 +1091,17 @@ private:
 					if (border_[size_t(h)] && !junction_[size_t(t_.heFrom(h))])
 						allLocked = false;
 				}
-			if (fe - fb == 1 || (sf.second == Failure::Ring && !allLocked)) {
+			const int step = tolStep_[size_t(sfFace_[size_t(fb)])];
+			if (fe - fb > 1 && sf.second == Failure::Deviation && !allLocked && step < kMaxTolSteps) {
+				// its chains are straightened and merged again with half the tolerances
+				for (int32_t i = fb; i < fe; ++i) {
+					const int32_t f = sfFace_[size_t(i)];
+					tolStep_[size_t(f)] = uint8_t(step + 1);
+					for (int k = 0; k < 3; ++k)
+						if (border_[size_t(3 * f + k)])
+							retightened_.push_back(t_.heFrom(3 * f + k));
+				}
+			} else if (fe - fb == 1 || (sf.second != Failure::Fold && !allLocked)) {
 				for (int32_t i = fb; i < fe; ++i)
 					for (int k = 0; k < 3; ++k) {
 						const int32_t h = 3 * sfFace_[size_t(i)] + k;
@@ -1140,6 +1183,7 @@ private:
 		release(sfStart_), release(sfFace_), release(border_), release(degree_);
 		release(junction_), release(keep_), release(extraLock_), release(changed_);
 		release(changedList_), release(relabeled_), release(failedFace_), release(lockedNow_);
+		release(tolStep_), release(retightened_);
 		release(dirty_), release(ringHE_), release(ringStart_), release(sfRingStart_);
 		release(visited_), release(broken_), release(pieces_), release(failed_);
 		release(scratch_), release(chunkStart_), release(chunks_);
