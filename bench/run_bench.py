@@ -528,6 +528,23 @@ def bars(bench):
                 return r
         return None
 
+    def details(summary, lines):
+        """A folded Markdown list after an empty line."""
+        L.extend(["", "<details><summary>%s</summary>" % summary, ""])
+        L.extend("- " + x for x in lines)
+        L.append("</details>")
+
+    def cad_levels():
+        """GaussLOD's levels of the CAD models; a level that reused the finer level's mesh once."""
+        seen = set()
+        for g in rows:
+            if g["method"] != "gausslod" or g.get("error") or "cad" not in models.get(g["model"], {}).get("groups", []):
+                continue
+            key = (g["model"], g["faces"], g.get("hausdorff_pct"))
+            if key not in seen:
+                seen.add(key)
+                yield g
+
     L.append("### Speed (GaussLOD: all 5 levels, engine time summed over levels, in-process)")
     if big:
         g = big["gausslod_seconds"]
@@ -653,13 +670,8 @@ def bars(bench):
                      n, comp["faces"][0], comp["faces"][1], comp["hausdorff"][0], comp["hausdorff"][1],
                      comp["slivers"][0], comp["slivers"][1], ok(allgood)))
         if lines:
-            L.append("")
-            L.append("<details><summary>%d comparisons where GaussLOD is worse in at least one "
-                     "(GaussLOD vs Blender)</summary>" % len(lines))
-            L.append("")
-            for x in lines:
-                L.append("- " + x)
-            L.append("</details>")
+            details("%d comparisons where GaussLOD is worse in at least one (GaussLOD vs Blender)" % len(lines),
+                    lines)
     else:
         L.append("Not measured (Blender did not run).")
     if empty:
@@ -671,14 +683,7 @@ def bars(bench):
     quad = ["meshopt", "cgal_gh", "meshlab_quadric", "meshlab_quadric_planar"]
     tally = {q: [0, 0, 0] for q in quad}  # not worse (<= 0.005 deg tolerance), strictly lower, n
     worse = []
-    seen = set()
-    for g in rows:
-        if g["method"] != "gausslod" or g.get("error") or "cad" not in models.get(g["model"], {}).get("groups", []):
-            continue
-        key = (g["model"], g["faces"], g.get("hausdorff_pct"))
-        if key in seen:  # a level that reused the finer level's mesh: same comparison
-            continue
-        seen.add(key)
+    for g in cad_levels():
         for q in quad:
             p = peer_row(g["model"], q, g["level"])
             if not p or p.get("error") or p.get("normal_p95_deg") is None:
@@ -698,12 +703,7 @@ def bars(bench):
                  + ", ".join("%s %d / %d / %d" % (LABEL[q], tally[q][0], tally[q][1], tally[q][2]) for q in quad)
                  + ". %s (met = not higher in every comparison, 0.005 deg tolerance)." % ok(allgood))
         if worse:
-            L.append("")
-            L.append("<details><summary>%d comparisons where GaussLOD's p95 is higher</summary>" % len(worse))
-            L.append("")
-            for x in worse:
-                L.append("- " + x)
-            L.append("</details>")
+            details("%d comparisons where GaussLOD's p95 is higher" % len(worse), worse)
     else:
         L.append("Not measured.")
     L.append("")
@@ -711,14 +711,9 @@ def bars(bench):
     # the issue: "report the Hausdorff ratio to the best of them honestly, and work it down"
     L.append("### Hausdorff distance vs the best quadric method on CAD models (same face count)")
     ratios, lines = [], []
-    seen = set()
-    for g in rows:
-        if g["method"] != "gausslod" or g.get("error") or "cad" not in models.get(g["model"], {}).get("groups", []):
+    for g in cad_levels():
+        if g.get("hausdorff_pct") is None:
             continue
-        key = (g["model"], g["faces"], g.get("hausdorff_pct"))
-        if key in seen or g.get("hausdorff_pct") is None:
-            continue
-        seen.add(key)
         best = None
         for q in quad:
             p = peer_row(g["model"], q, g["level"])
@@ -743,12 +738,7 @@ def bars(bench):
                  "and work it down (no fixed bar)." % (
                      len(ratios), sum(1 for x in ratios if x <= 1.0), med,
                      "inf" if max(ratios) == float("inf") else "%.2f" % max(ratios)))
-        L.append("")
-        L.append("<details><summary>every comparison (GaussLOD vs the best quadric method: ratio)</summary>")
-        L.append("")
-        for x in lines:
-            L.append("- " + x)
-        L.append("</details>")
+        details("every comparison (GaussLOD vs the best quadric method: ratio)", lines)
     else:
         L.append("Not measured.")
     L.append("")
