@@ -116,6 +116,7 @@ public:
 		devLimit_ = prm_.deviationFactor > 0 ? prm_.deviationFactor * levelBoundDeg(p_.level) : 180.0;
 		extraLock_.assign(t_.nV, 0);
 		tolStep_.assign(t_.nF, 0);
+		faceDev_.assign(t_.nF, -1.0f); // (kept across rounds: a superface rebuilt resets its faces)
 		threads_ = threadCount(prm_.threads);
 		scratch_.resize(threads_);
 		size_t fallbacks = 0;
@@ -871,7 +872,6 @@ private:
 		// meanwhile)
 		release(tris_), release(triSf_), release(triBorder_);
 		retriangulated_ = 0;
-		faceDev_.assign(t_.nF, -1.0f);
 		groupFaces();
 		findBorders(patch);
 		dirty_.assign(p_.count(), patch ? 0 : 1);
@@ -909,35 +909,43 @@ private:
 		separateParallelChains();
 		out_.stats.secondsBorders += clock_.lap();
 		cache_.assign(p_.count(), Cached());
+		// the chunks build the rebuilt superfaces; an unchanged one (not dirty) is taken from the
+		// previous round's arrays when the chunks are concatenated (cache_ then holds its previous
+		// range)
 		forEachChunk([&](size_t c, Scratch &w) {
 			for (int32_t sf = chunkStart_[c]; sf < chunkStart_[c + 1]; ++sf)
 				buildSuperface(sf, w, chunks_[c]);
 		});
-		// the previous round is copied from and the rings are triangulated by now: freed before
-		// the chunks are concatenated
-		release(prevCache_), release(prevLabel_), release(prevTris_), release(prevTriBorder_);
-		release(prevFaceDev_), release(ringHE_), release(ringStart_), release(sfRingStart_);
-		release(pieces_);
-		// concatenate the chunks (offsets in cache_ were chunk-relative), freeing each one once
-		// appended (together they would double the level's peak memory)
+		release(ringHE_), release(ringStart_), release(sfRingStart_), release(pieces_);
+		// concatenate in superface order (offsets of rebuilt superfaces in cache_ were chunk-
+		// relative), freeing each chunk once appended
 		size_t nt = 0;
 		for (const ChunkOut &o : chunks_)
 			nt += o.triBorder.size();
+		for (size_t sf = 0; sf < p_.count(); ++sf)
+			if (!dirty_[sf])
+				nt += size_t(cache_[sf].triEnd - cache_[sf].triBegin);
 		tris_.reserve(3 * nt), triSf_.reserve(nt), triBorder_.reserve(nt);
 		for (size_t c = 0; c < chunks_.size(); ++c) {
 			ChunkOut &o = chunks_[c];
-			const int32_t triBase = int32_t(triBorder_.size());
 			for (int32_t sf = chunkStart_[c]; sf < chunkStart_[c + 1]; ++sf) {
 				Cached &cc = cache_[size_t(sf)];
-				cc.triBegin += triBase, cc.triEnd += triBase;
+				const std::vector<int32_t> &srcTris = dirty_[size_t(sf)] ? o.tris : prevTris_;
+				const std::vector<uint8_t> &srcBorder = dirty_[size_t(sf)] ? o.triBorder : prevTriBorder_;
+				const int32_t begin = int32_t(triBorder_.size());
+				tris_.insert(tris_.end(), srcTris.begin() + 3 * cc.triBegin, srcTris.begin() + 3 * cc.triEnd);
+				triBorder_.insert(triBorder_.end(), srcBorder.begin() + cc.triBegin,
+				                  srcBorder.begin() + cc.triEnd);
+				cc.triEnd = begin + (cc.triEnd - cc.triBegin), cc.triBegin = begin;
 				triSf_.insert(triSf_.end(), size_t(cc.triEnd - cc.triBegin), sf);
+				if (!dirty_[size_t(sf)])
+					retriangulated_ += cc.retriangulated;
 			}
-			tris_.insert(tris_.end(), o.tris.begin(), o.tris.end());
-			triBorder_.insert(triBorder_.end(), o.triBorder.begin(), o.triBorder.end());
 			failed_.insert(failed_.end(), o.failed.begin(), o.failed.end());
 			retriangulated_ += o.retriangulated;
 			ChunkOut().swap(o);
 		}
+		release(prevCache_), release(prevLabel_), release(prevTris_), release(prevTriBorder_);
 		out_.stats.secondsTriangulation += clock_.lap();
 		if (failed_.empty())
 			checkEdges();
@@ -950,20 +958,18 @@ private:
 		const size_t before = o.triBorder.size();
 		const size_t retriBefore = o.retriangulated;
 		Cached &c = cache_[size_t(s)];
-		if (!dirty_[size_t(s)]) { // unchanged since the previous round
-			const Cached &pc = prevCache_[size_t(prevLabel_[size_t(sfFace_[size_t(sfStart_[size_t(s)])])])];
-			c = pc;
-			copyPrevious(s, pc, o);
-			c.triBegin = int32_t(before);
-			c.triEnd = int32_t(o.triBorder.size());
+		if (!dirty_[size_t(s)]) { // unchanged since the previous round: its range there (the
+			// triangles are copied with the concatenation, its faces keep their deviations)
+			c = prevCache_[size_t(prevLabel_[size_t(sfFace_[size_t(sfStart_[size_t(s)])])])];
 			return;
 		}
 		c.faceCount = sfStart_[size_t(s) + 1] - sfStart_[size_t(s)];
 		Failure f = Failure::None;
-		if (broken_[size_t(s)])
-			f = Failure::Fold;
-		else if (!reuse(s, c, w, o))
-			f = retriangulate(s, w, o);
+		if (broken_[size_t(s)] || !reuse(s, c, w, o)) {
+			for (int32_t i = sfStart_[size_t(s)]; i < sfStart_[size_t(s) + 1]; ++i)
+				faceDev_[size_t(sfFace_[size_t(i)])] = -1.0f; // (measured again below)
+			f = broken_[size_t(s)] ? Failure::Fold : retriangulate(s, w, o);
+		}
 		if (f != Failure::None) {
 			truncate(o, before);
 			o.failed.emplace_back(s, f);
@@ -981,7 +987,6 @@ private:
 		prevLabel_ = p_.label;
 		prevTris_.swap(tris_);
 		prevTriBorder_.swap(triBorder_);
-		prevFaceDev_.swap(faceDev_);
 	}
 
 	// ---------------------------------------------------------- reuse across fallback rounds
@@ -997,7 +1002,6 @@ private:
 	std::vector<Cached> prevCache_, cache_;
 	std::vector<int32_t> prevLabel_, prevTris_;
 	std::vector<uint8_t> prevTriBorder_;
-	std::vector<float> prevFaceDev_;
 
 	static uint64_t directedEdge(int32_t a, int32_t b)
 	{
@@ -1048,20 +1052,16 @@ private:
 		std::sort(w.edgesBefore.begin(), w.edgesBefore.end());
 		if (w.edgesNow != w.edgesBefore)
 			return false;
-		copyPrevious(s, c, o);
+		copyPrevious(c, o);
 		return true;
 	}
 
-	void copyPrevious(int32_t s, const Cached &c, ChunkOut &o)
+	void copyPrevious(const Cached &c, ChunkOut &o)
 	{
 		o.tris.insert(o.tris.end(), prevTris_.begin() + 3 * c.triBegin, prevTris_.begin() + 3 * c.triEnd);
 		o.triBorder.insert(o.triBorder.end(), prevTriBorder_.begin() + c.triBegin,
 		                   prevTriBorder_.begin() + c.triEnd);
-		for (int32_t i = sfStart_[size_t(s)]; i < sfStart_[size_t(s) + 1]; ++i) {
-			const int32_t f = sfFace_[size_t(i)];
-			faceDev_[size_t(f)] = prevFaceDev_[size_t(f)];
-		}
-		o.retriangulated += c.retriangulated;
+		o.retriangulated += c.retriangulated; // (its faces keep their deviations)
 	}
 
 	// A failed superface first has its border locked (no straightening, no merging) - after a
@@ -1188,7 +1188,7 @@ private:
 		release(visited_), release(broken_), release(pieces_), release(failed_);
 		release(scratch_), release(chunkStart_), release(chunks_);
 		release(prevCache_), release(cache_), release(prevLabel_), release(prevTris_);
-		release(prevTriBorder_), release(prevFaceDev_);
+		release(prevTriBorder_);
 	}
 
 	// ---------------------------------------------------------------------------- output
