@@ -187,3 +187,39 @@ TEST(Retriangulation, a_ring_projecting_onto_one_line_is_refused_and_a_square_is
 	EXPECT_EQ(square.tris.size(), 6u);
 	EXPECT_GE(square.queryTri[0], 0);
 }
+
+TEST(LevelGeometry, a_level_over_its_face_limit_is_abandoned_after_the_round_that_exceeds_it)
+{
+	// fandisk's finest level needs a second round (superfaces split into their faces); with a
+	// face limit below what the first round already has, the build stops there without a mesh
+	const FlatMesh m = loadOff("fandisk.off");
+	const Params prm = defaultParams(m);
+	detail::Topology topo;
+	detail::buildTopology(m.view(), prm.featureAngleDeg, topo);
+	const int finest = prm.maxLevel - 1;
+	std::vector<detail::Partition> parts(size_t(prm.maxLevel));
+	detail::finestPartition(topo, finest, parts[size_t(finest)]);
+	detail::mergeAcrossCells(topo, std::min(levelBoundDeg(finest), prm.featureAngleDeg),
+	                         parts[size_t(finest)]);
+	const detail::Partition start = parts[size_t(finest)];
+
+	LevelMesh full;
+	detail::buildLevelGeometry(topo, prm, parts, parts[size_t(finest)], full, SIZE_MAX);
+	ASSERT_GT(full.stats.rounds, 1);
+	ASSERT_EQ(full.triangles.size(), 3 * full.stats.faces);
+
+	detail::Partition p = start;
+	LevelMesh cut;
+	detail::buildLevelGeometry(topo, prm, parts, p, cut, 100);
+	EXPECT_EQ(cut.stats.rounds, 1);
+	EXPECT_TRUE(cut.triangles.empty());
+	EXPECT_GT(cut.stats.faces, 100u);
+
+	// a limit the rounds never exceed changes nothing
+	p = start;
+	LevelMesh same;
+	detail::buildLevelGeometry(topo, prm, parts, p, same, full.stats.faces);
+	EXPECT_EQ(same.stats.rounds, full.stats.rounds);
+	EXPECT_EQ(same.triangles, full.triangles);
+	EXPECT_EQ(same.positions, full.positions);
+}

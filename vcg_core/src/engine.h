@@ -245,8 +245,12 @@ void canonicalize(Partition &p);
 /// 2.2.2-2.4 for one level: borders, straightening, vicinity merging, re-triangulation; splits
 /// superfaces that cannot be re-triangulated validly into their finer children (`finer[k]` is the
 /// final partition of level k, for k > p.level) and rebuilds until the level is valid.
+/// Stops early, leaving `out` without a mesh and out.stats.faces > faceLimit, once a round's valid
+/// triangles plus one per superface still to split exceed `faceLimit` (the caller then keeps the
+/// finer level, which has that many faces).
 void buildLevelGeometry(const Topology &topo, const Params &params,
-                        const std::vector<Partition> &finer, Partition &p, LevelMesh &out);
+                        const std::vector<Partition> &finer, Partition &p, LevelMesh &out,
+                        size_t faceLimit);
 
 /// 2.4 Constrained Delaunay triangulation of one superface's projected rings (CGAL).
 struct TriangulationJob {

@@ -116,7 +116,8 @@ Result buildLevels(const MeshView &mesh, const Params &params, const Progress &p
 			}
 			LevelMesh lm;
 			lm.stats.secondsPartition = since(tl) + (level == finest ? setup : 0.0);
-			buildLevelGeometry(topo, params, parts, parts[size_t(level)], lm);
+			buildLevelGeometry(topo, params, parts, parts[size_t(level)], lm,
+			                   level < finest ? finer.stats.faces : SIZE_MAX);
 			if (level < finest && lm.stats.faces > finer.stats.faces) {
 				// keep the levels monotone: the finer level's mesh is valid here too
 				Partition &p = parts[size_t(level)];
