@@ -101,6 +101,11 @@ bool readRequest(const RichParameterList &par, double diag, FilterRequest &req, 
 		error = QString("Vertex merge distance must be >= 0 (got %1).").arg(p.mergeDistance);
 		return false;
 	}
+	p.maxDistance = absoluteFromAbsPerc(par, "maxDistance", diag);
+	if (!std::isfinite(p.maxDistance) || p.maxDistance < 0) {
+		error = QString("Distance tolerance must be >= 0 (got %1).").arg(p.maxDistance);
+		return false;
+	}
 	p.deviationFactor = par.getFloat("normalLimit");
 	if (!std::isfinite(p.deviationFactor) || p.deviationFactor < 0) {
 		error = QString("Normal deviation limit must be >= 0 (got %1).").arg(p.deviationFactor);
@@ -269,6 +274,14 @@ void FilterGaussLodPlugin::initParameterSet(QAction *a, MeshModel &m, RichParame
 		    "0.25%): consecutive border vertices closer than this are merged, the less important "
 		    "into the more important. 0 disables merging. In a saved script the percentage is "
 		    "what is kept."));
+		par.addParam(RichAbsPerc(
+		    "maxDistance", 0.0f, 0.0f, diag, "Distance tolerance",
+		    "Beyond the paper: distance in mesh units (the percentage is of the bounding-box "
+		    "diagonal) that no removed input vertex may end farther than from the output. A "
+		    "superface that would is retried with tighter borders, then split into finer "
+		    "superfaces; it also caps the straightening tolerance (and the merge distance at "
+		    "half of it). Coarse levels then keep more faces on curved parts. 0 = no distance "
+		    "limit (default: only normals decide, as in the paper)."));
 		par.addParam(RichFloat(
 		    "normalLimit", 1.0f, "Normal deviation limit (x level bound)",
 		    "Guarantee on the result, as a multiple of each level's bound sqrt(2)*90/3^i deg: "

@@ -32,6 +32,8 @@ void usage()
 	             "  --feature-angle D   vertex-class threshold, degrees (30)\n"
 	             "  --straighten P      border straightening tolerance, %% of bbox diagonal (0.5)\n"
 	             "  --merge P           vicinity merge distance, %% of bbox diagonal (0.25)\n"
+	             "  --max-distance P    distance tolerance, %% of bbox diagonal: no removed input\n"
+	             "                      vertex farther from the output (0 = none, the default)\n"
 	             "  --normal-limit F    normal deviation limit, x each level's bound; 0 = none (1)\n"
 	             "  --output-levels L   \"all\" or a comma list of levels to write, 0 = coarsest (all)\n"
 	             "  --paper-superfaces  superfaces within one Gauss-sphere cell only, as in the paper\n"
@@ -60,7 +62,7 @@ int main(int argc, char **argv)
 	mallopt(M_MMAP_THRESHOLD, 4 << 20);
 #endif
 	gausslod::Params params;
-	double straightenPct = 0.5, mergePct = 0.25;
+	double straightenPct = 0.5, mergePct = 0.25, maxDistancePct = 0;
 	bool colour = true, json = false;
 	std::string outputLevels = "all";
 	std::string input, outdir;
@@ -83,6 +85,8 @@ int main(int argc, char **argv)
 			value(straightenPct);
 		} else if (a == "--merge") {
 			value(mergePct);
+		} else if (a == "--max-distance") {
+			value(maxDistancePct);
 		} else if (a == "--normal-limit") {
 			value(params.deviationFactor);
 		} else if (a == "--output-levels") {
@@ -159,6 +163,7 @@ int main(int argc, char **argv)
 	const double diag = gausslod::bboxDiagonal(flat.view());
 	params.straightenTolerance = straightenPct / 100.0 * diag;
 	params.mergeDistance = mergePct / 100.0 * diag;
+	params.maxDistance = maxDistancePct / 100.0 * diag;
 	std::string name = input.substr(input.find_last_of('/') + 1);
 	name = name.substr(0, name.find_last_of('.'));
 	std::string writeError;

@@ -59,6 +59,12 @@ a=$(ply_faces "$work/json/fandisk_LOD4.ply") p=$(ply_faces "$work/paper/fandisk_
 [ "$p" -gt "$a" ] && pass "--paper-superfaces: LOD4 $p faces vs $a merged across cells" ||
   fail "--paper-superfaces: LOD4 $p faces, default $a"
 
+# 5b. --max-distance: coarser levels keep more faces than without it (fandisk L0 flattens by ~2.6 %)
+"$tool" --max-distance 0.1 "$data/fandisk.off" "$work/dist" >/dev/null 2>&1 || fail "--max-distance: exit $?"
+a=$(ply_faces "$work/json/fandisk_LOD0.ply") d=$(ply_faces "$work/dist/fandisk_LOD0.ply")
+[ "$d" -gt "$a" ] && pass "--max-distance 0.1: LOD0 $d faces vs $a without" ||
+  fail "--max-distance 0.1: LOD0 $d faces, default $a"
+
 # 6. errors: exit code and message
 expect() { # NAME CODE TEXT ARGS...
   local name=$1 code=$2 text=$3; shift 3
@@ -70,6 +76,7 @@ printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty floa
 expect no_args 2 "usage:"
 expect unknown_option 2 "unknown option" --frobnicate "$data/cow.off" "$work/x"
 expect bad_levels 1 "number of levels must be between" --levels 0 "$data/cow.off" "$work/x"
+expect bad_distance 1 "distance tolerance must be" --max-distance -1 "$data/cow.off" "$work/x"
 expect bad_output_levels 2 "is not a level index" --output-levels 9 "$data/cow.off" "$work/x"
 expect missing_input 1 "no such file" "$work/nothing.ply" "$work/x"
 expect point_cloud 1 "no faces" "$work/points.ply" "$work/x"

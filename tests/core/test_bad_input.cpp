@@ -284,6 +284,8 @@ TEST(BadInput, bad_parameters_give_a_clear_error)
 	EXPECT_NE(err([](Params &p) { p.straightenTolerance = -1; }).find("straightening"), std::string::npos);
 	EXPECT_NE(err([](Params &p) { p.mergeDistance = NAN; }).find("merge"), std::string::npos);
 	EXPECT_NE(err([](Params &p) { p.deviationFactor = -2; }).find("deviation"), std::string::npos);
+	EXPECT_NE(err([](Params &p) { p.maxDistance = -1; }).find("distance tolerance"), std::string::npos);
+	EXPECT_NE(err([](Params &p) { p.maxDistance = INFINITY; }).find("distance tolerance"), std::string::npos);
 }
 
 TEST(BadInput, progress_callback_can_cancel)

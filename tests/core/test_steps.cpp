@@ -223,3 +223,47 @@ TEST(LevelGeometry, a_level_over_its_face_limit_is_abandoned_after_the_round_tha
 	EXPECT_EQ(same.triangles, full.triangles);
 	EXPECT_EQ(same.positions, full.positions);
 }
+
+namespace {
+
+// Largest distance from an input vertex to the output triangles (brute force: small meshes).
+double farthestInputVertex(const FlatMesh &in, const LevelMesh &out)
+{
+	double worst = 0;
+	for (size_t v = 0; v < in.positions.size() / 3; ++v) {
+		const Vec3 p = vpos(in.positions, int32_t(v));
+		double best = HUGE_VAL;
+		for (size_t t = 0; t < out.triangles.size(); t += 3)
+			best = std::min(best, detail::pointTriangleDistance2(p, vpos(out.positions, out.triangles[t]),
+			                                                     vpos(out.positions, out.triangles[t + 1]),
+			                                                     vpos(out.positions, out.triangles[t + 2])));
+		worst = std::max(worst, best);
+	}
+	return std::sqrt(worst);
+}
+
+} // namespace
+
+TEST(DistanceTolerance, no_input_vertex_ends_farther_than_the_tolerance_from_any_level)
+{
+	// a paraboloid cap: the coarse levels flatten it by far more than the tolerance unless the
+	// distance tolerance refuses (then splits) the superfaces that would
+	const FlatMesh m = grid(40, [](double x, double y) { return Vec3(x, y, 0.3 * (x * x + y * y)); });
+	const double diag = bboxDiagonal(m.view());
+	Params free = defaultParams(m);
+	Params bounded = free;
+	bounded.maxDistance = 0.002 * diag;
+	const Result a = buildLevels(m.view(), free), b = buildLevels(m.view(), bounded);
+	ASSERT_TRUE(a.ok && b.ok);
+	ASSERT_EQ(a.levels.size(), b.levels.size());
+	EXPECT_GT(farthestInputVertex(m, a.levels.back()), 5 * bounded.maxDistance);
+	for (size_t i = 0; i < b.levels.size(); ++i) {
+		const LevelMesh &lb = b.levels[i];
+		EXPECT_LE(farthestInputVertex(m, lb), bounded.maxDistance * (1 + 1e-9)) << "level " << lb.stats.level;
+		EXPECT_GE(lb.stats.faces, a.levels[i].stats.faces);
+		const TopoFacts facts = topoFacts(lb.positions, lb.triangles);
+		EXPECT_EQ(facts.boundaryLoops, 1u);
+		EXPECT_EQ(facts.nonManifoldEdges, 0u);
+	}
+	EXPECT_GT(b.levels.back().stats.faces, a.levels.back().stats.faces);
+}

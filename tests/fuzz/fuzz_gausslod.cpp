@@ -57,7 +57,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	params.featureAngleDeg = 1 + r.byte() % 170;
 	params.straightenTolerance = (r.byte() % 16) * 0.02;
 	params.mergeDistance = (r.byte() % 16) * 0.02;
-	params.deviationFactor = (r.byte() % 4) * 0.75;
+	const uint8_t limits = r.byte();
+	params.deviationFactor = (limits % 4) * 0.75;
+	params.maxDistance = ((limits >> 2) % 4) * 0.01; // (same byte: earlier inputs keep their meaning)
 	const size_t nv = 3 + r.byte() % 40;
 	std::vector<double> pos(3 * nv);
 	const uint8_t scaleByte = r.byte();

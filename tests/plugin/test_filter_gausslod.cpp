@@ -227,9 +227,10 @@ TEST_F(GaussLodPlugin, declares_itself_as_a_single_mesh_remeshing_filter)
 	MeshDocument md;
 	loadOffLayer(md, dataFile("cow.off"));
 	const RichParameterList par = defaults(md);
-	const QStringList expected = {"maxLevel",    "outputLevels", "featureAngle",
-	                              "straightenTol", "mergeDist",  "normalLimit",
-	                              "acrossCells", "colourSuperfaces", "fauxEdges"};
+	const QStringList expected = {"maxLevel",      "outputLevels", "featureAngle",
+	                              "straightenTol", "mergeDist",    "maxDistance",
+	                              "normalLimit",   "acrossCells",  "colourSuperfaces",
+	                              "fauxEdges"};
 	EXPECT_EQ(par.size(), unsigned(expected.size()));
 	for (const QString &name : expected)
 		EXPECT_TRUE(par.hasParameter(name)) << qUtf8Printable(name);
@@ -239,6 +240,7 @@ TEST_F(GaussLodPlugin, declares_itself_as_a_single_mesh_remeshing_filter)
 	const float diag = md.mm()->cm.bbox.Diag();
 	EXPECT_NEAR(par.getAbsPerc("straightenTol"), 0.005f * diag, 1e-6f * diag);
 	EXPECT_NEAR(par.getAbsPerc("mergeDist"), 0.0025f * diag, 1e-6f * diag);
+	EXPECT_EQ(par.getAbsPerc("maxDistance"), 0.0f);
 	EXPECT_FLOAT_EQ(par.getFloat("normalLimit"), 1.0f);
 	EXPECT_TRUE(par.getBool("acrossCells"));
 	EXPECT_TRUE(par.getBool("colourSuperfaces"));
@@ -375,6 +377,7 @@ TEST_F(GaussLodPlugin, out_of_range_parameters_are_rejected)
 	    {"featureAngle", std::make_shared<FloatValue>(181.0f)},
 	    {"straightenTol", std::make_shared<AbsPercValue>(-0.1f)},
 	    {"mergeDist", std::make_shared<AbsPercValue>(-0.1f)},
+	    {"maxDistance", std::make_shared<AbsPercValue>(-0.1f)},
 	    {"normalLimit", std::make_shared<FloatValue>(-1.0f)},
 	};
 	for (const auto &c : cases) {
@@ -422,6 +425,25 @@ TEST_F(GaussLodPlugin, cancelling_through_the_progress_callback_adds_no_layer)
 
 /// What meshlabserver does with a script entry: the filter's defaults for the current mesh,
 /// overridden by the parameters the script lists.
+TEST_F(GaussLodPlugin, a_distance_tolerance_keeps_more_faces_where_levels_would_move_the_surface)
+{
+	MeshDocument free, bounded;
+	loadOffLayer(free, dataFile("cow.off"));
+	MeshModel *input = loadOffLayer(bounded, dataFile("cow.off"));
+	const LayerSnapshot before(*input);
+	ASSERT_TRUE(apply(free, defaults(free)));
+	RichParameterList par = defaults(bounded);
+	const float diag = bounded.mm()->cm.bbox.Diag();
+	par.setValue("maxDistance", AbsPercValue(0.001f * diag));
+	ASSERT_TRUE(apply(bounded, par)) << qUtf8Printable(filter->errorMsg());
+	EXPECT_TRUE(LayerSnapshot(*input) == before);
+	ASSERT_EQ(free.size(), bounded.size());
+	for (int i = 1; i < bounded.size(); ++i)
+		EXPECT_GE(bounded.meshList.at(i)->cm.fn, free.meshList.at(i)->cm.fn) << i;
+	// the coarsest level flattens the cow by ~2.5 % of its diagonal without the tolerance
+	EXPECT_GT(bounded.meshList.back()->cm.fn, free.meshList.back()->cm.fn);
+}
+
 TEST_F(GaussLodPlugin, default_script_runs_in_process_like_meshlabserver)
 {
 	FilterScript script;

@@ -57,6 +57,13 @@ struct Params {
 	/// Vicinity merge distance (paper 2.3.2), absolute: consecutive border vertices closer than this
 	/// merge (less important into more important; corners only receive). 0 = no merging.
 	double mergeDistance = 0.0;
+	/// Beyond the paper: distance tolerance, absolute. A superface is refused (retried with
+	/// tighter borders, then split into finer ones) if an input vertex it removes is farther than
+	/// this from the output: a removed border vertex from its straightened chain, a removed
+	/// interior vertex from the plane of the output triangle over a face it belongs to. Caps the
+	/// straightening tolerance at this value and the merge distance at half of it.
+	/// 0 = no distance limit (the paper: only normals decide).
+	double maxDistance = 0.0;
 	/// Beyond the paper: also merge adjacent superfaces of different (neighbouring) cells when all
 	/// their face normals still lie within the level's bound of each other (as inside one cell)
 	/// and within the feature angle (no sharp feature inside a merged superface). Removes the

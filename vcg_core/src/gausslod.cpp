@@ -43,6 +43,8 @@ std::string validate(const MeshView &m, const Params &p)
 		return "normal deviation factor must be a finite value >= 0";
 	if (!(p.mergeDistance >= 0 && std::isfinite(p.mergeDistance)))
 		return "vicinity merge distance must be a finite value >= 0";
+	if (!(p.maxDistance >= 0 && std::isfinite(p.maxDistance)))
+		return "distance tolerance must be a finite value >= 0";
 	if (p.threads < 0)
 		return "number of threads must be >= 0 (0 = one per core)";
 	if (m.faceCount == 0 || m.triangles == nullptr)

@@ -58,7 +58,7 @@ double angleDeg(const Vec3 &a, const Vec3 &b)
 // limit: often a straightened border cutting across a slightly curved region) first retries with
 // tighter straightening; Ring (anything else) first locks the border. (Retrying the others with
 // tighter straightening too was measured: more faces at level 0 on cow and bumpy meshes.)
-enum class Failure : uint8_t { None, Ring, Fold, Deviation };
+enum class Failure : uint8_t { None, Ring, Fold, Deviation, Distance };
 
 // A chain of border edges between two junction vertices (or a closed loop with none), stored as a
 // range of a ring. Only one of the (up to) two superfaces sharing it processes it.
@@ -113,6 +113,11 @@ public:
 	{
 		// below this, border vertices count as exactly on their straightened chain
 		tolerance_ = std::max(prm_.straightenTolerance, 1e-9 * t_.diagonal);
+		mergeDistance_ = prm_.mergeDistance;
+		if (prm_.maxDistance > 0) {
+			tolerance_ = std::min(tolerance_, std::max(prm_.maxDistance, 1e-9 * t_.diagonal));
+			mergeDistance_ = std::min(mergeDistance_, 0.5 * prm_.maxDistance);
+		}
 		devLimit_ = prm_.deviationFactor > 0 ? prm_.deviationFactor * levelBoundDeg(p_.level) : 180.0;
 		extraLock_.assign(t_.nV, 0);
 		tolStep_.assign(t_.nF, 0);
@@ -584,7 +589,7 @@ private:
 			}
 		}
 		ensureInterior(pc, w);
-		const double mergeDistance = prm_.mergeDistance * scale;
+		const double mergeDistance = mergeDistance_ * scale;
 		if (mergeDistance <= 0)
 			return;
 		// 2.3.2 vicinity merging: a kept interior vertex closer than the merge distance to a kept
@@ -621,6 +626,125 @@ private:
 	{
 		o.tris.push_back(a), o.tris.push_back(b), o.tris.push_back(c);
 		o.triBorder.push_back(uint8_t(borderBits | (isNew ? kNewTriangle : 0)));
+	}
+
+	// Params::maxDistance on a re-triangulated superface: the removed vertices of its rings
+	// against the straightened ring edges; each input face against the triangles its centroid
+	// and its corners fall in: along the projection direction N, the gap between the face and a
+	// triangle's plane is linear over the face, so its largest value over the part of the face
+	// above that triangle is at a corner of that part (the face clipped by the triangle, in the
+	// projection). A face crossing a triangle that holds neither its centroid nor a corner is not
+	// seen. A border too far is a Deviation (tighter tolerances, then a locked border fix it), a
+	// face too far a Distance failure (only a split fixes it).
+	Failure distanceCheck(int32_t s, int32_t fb, int32_t fe, const Vec3 &N, size_t firstTri,
+	                      const Scratch &w, const ChunkOut &o) const
+	{
+		const double eps = prm_.maxDistance;
+		for (int32_t r = sfRingStart_[size_t(s)]; r < sfRingStart_[size_t(s) + 1]; ++r) {
+			const int32_t b = ringStart_[size_t(r)], e = ringStart_[size_t(r) + 1];
+			int32_t first = b; // a kept vertex to start from (a ring keeps at least 3)
+			while (first < e && !keep_[size_t(t_.heFrom(ringHE_[size_t(first)]))])
+				++first;
+			if (first == e)
+				return Failure::Ring;
+			Vec3 a = t_.pos(t_.heFrom(ringHE_[size_t(first)]));
+			int32_t runStart = 0; // removed vertices since the last kept one: positions in ring
+			for (int32_t step = 1, run = 0; step <= e - b; ++step) {
+				const int32_t i = b + (first - b + step) % (e - b);
+				const int32_t v = t_.heFrom(ringHE_[size_t(i)]);
+				if (!keep_[size_t(v)]) {
+					if (run++ == 0)
+						runStart = i;
+					continue;
+				}
+				const Vec3 c = t_.pos(v);
+				for (int32_t k = 0; k < run; ++k) {
+					const int32_t j = b + (runStart - b + k) % (e - b);
+					if (pointSegmentDistance(t_.pos(t_.heFrom(ringHE_[size_t(j)])), a, c) > eps)
+						return Failure::Deviation;
+				}
+				a = c, run = 0;
+			}
+		}
+		const size_t ntri = o.tris.size() / 3 - firstTri;
+		const size_t faces = size_t(fe - fb);
+		// gap at face i's corners to triangle k's plane (along N), then over the clipped part
+		auto faceTooFar = [&](size_t i, int32_t k) {
+			const int32_t f = sfFace_[size_t(fb) + i];
+			const Vec3 &n = w.triNormal[size_t(k)];
+			const Vec3 &q = t_.pos(o.tris[3 * (firstTri + size_t(k))]);
+			const double nN = n.dot(N);
+			double gap[3];
+			bool within = true;
+			for (int c = 0; c < 3; ++c) {
+				gap[c] = (t_.pos(t_.T[3 * f + c]) - q).dot(n) / nN;
+				within = within && std::fabs(gap[c]) <= eps;
+			}
+			if (within || ntri == 1) // (one triangle: every face is all above it)
+				return !within;
+			// the face (2D, its corners' queries) clipped by triangle k (Sutherland-Hodgman)
+			double poly[2][12][2];
+			int cnt = 3;
+			const double *fxy = &w.job.queryXY[2 * (faces + 3 * i)];
+			for (int c = 0; c < 3; ++c)
+				poly[0][c][0] = fxy[2 * c], poly[0][c][1] = fxy[2 * c + 1];
+			const int32_t *tv = &w.job.tris[3 * size_t(k)];
+			double area = 0; // of triangle k, for its orientation
+			for (int e = 0; e < 3; ++e) {
+				const double *a = &w.job.xy[2 * size_t(tv[e])], *b = &w.job.xy[2 * size_t(tv[(e + 1) % 3])];
+				area += a[0] * b[1] - a[1] * b[0];
+			}
+			const double sign = area >= 0 ? 1.0 : -1.0;
+			int cur = 0;
+			for (int e = 0; e < 3 && cnt > 0; ++e) {
+				const double *a = &w.job.xy[2 * size_t(tv[e])], *b = &w.job.xy[2 * size_t(tv[(e + 1) % 3])];
+				auto side = [&](const double *x) {
+					return sign * ((b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0]));
+				};
+				int out = 0;
+				for (int j = 0; j < cnt; ++j) {
+					const double *x = poly[cur][j], *y = poly[cur][(j + 1) % cnt];
+					const double sx = side(x), sy = side(y);
+					if (sx >= 0 && out < 12)
+						poly[1 - cur][out][0] = x[0], poly[1 - cur][out++][1] = x[1];
+					if (((sx >= 0) != (sy >= 0)) && out < 12) {
+						const double t = sx / (sx - sy);
+						poly[1 - cur][out][0] = x[0] + t * (y[0] - x[0]);
+						poly[1 - cur][out++][1] = x[1] + t * (y[1] - x[1]);
+					}
+				}
+				cnt = out, cur = 1 - cur;
+			}
+			// the gap at each corner of the clipped part (barycentric in the face)
+			const double det = (fxy[2] - fxy[0]) * (fxy[5] - fxy[1]) - (fxy[4] - fxy[0]) * (fxy[3] - fxy[1]);
+			if (!(std::fabs(det) > 0))
+				return true; // a face seen edge-on in the projection: not measurable, refused
+			for (int j = 0; j < cnt; ++j) {
+				const double dx = poly[cur][j][0] - fxy[0], dy = poly[cur][j][1] - fxy[1];
+				const double b1 = (dx * (fxy[5] - fxy[1]) - dy * (fxy[4] - fxy[0])) / det;
+				const double b2 = ((fxy[2] - fxy[0]) * dy - (fxy[3] - fxy[1]) * dx) / det;
+				if (std::fabs((1 - b1 - b2) * gap[0] + b1 * gap[1] + b2 * gap[2]) > eps)
+					return true;
+			}
+			return false;
+		};
+		for (size_t i = 0; i < faces; ++i) {
+			if (ntri == 1) { // (no triangulation was run)
+				if (faceTooFar(i, 0))
+					return Failure::Distance;
+				continue;
+			}
+			const int32_t *corner = &w.job.queryTri[faces + 3 * i];
+			const int32_t under[4] = {w.job.queryTri[i], corner[0], corner[1], corner[2]};
+			for (int j = 0; j < 4; ++j) {
+				const int32_t k = under[j];
+				if (k < 0 || std::find(under, under + j, k) != under + j)
+					continue;
+				if (faceTooFar(i, k))
+					return Failure::Distance;
+			}
+		}
+		return Failure::None;
 	}
 
 	Failure retriangulate(int32_t s, Scratch &w, ChunkOut &o)
@@ -699,6 +823,13 @@ private:
 				w.job.queryXY[2 * size_t(i - fb)] = c.dot(U);
 				w.job.queryXY[2 * size_t(i - fb) + 1] = c.dot(V);
 			}
+			if (prm_.maxDistance > 0) // and every face's corners (see distanceCheck)
+				for (int32_t i = fb; i < fe; ++i)
+					for (int k = 0; k < 3; ++k) {
+						const Vec3 q = t_.pos(t_.T[3 * sfFace_[size_t(i)] + k]) - origin;
+						w.job.queryXY.push_back(q.dot(U));
+						w.job.queryXY.push_back(q.dot(V));
+					}
 			if (!triangulateRings(w.job))
 				return Failure::Ring;
 			for (size_t k = 0; k < w.job.tris.size(); k += 3)
@@ -738,6 +869,11 @@ private:
 			faceDev_[size_t(f)] = float(d);
 			w.covered[size_t(k)] = 1;
 			w.ownDist2[size_t(k)] = std::min(w.ownDist2[size_t(k)], faceDist2(w.centroid[size_t(k)], f));
+		}
+		if (prm_.maxDistance > 0) {
+			const Failure far = distanceCheck(s, fb, fe, N, firstTri, w, o);
+			if (far != Failure::None)
+				return far;
 		}
 		// a triangle that covers no input face centroid is checked against the faces of the
 		// superface around its corners
@@ -794,6 +930,7 @@ private:
 	double devLimit_ = 180;
 	Stopwatch clock_;
 	double tolerance_ = 0;
+	double mergeDistance_ = 0;
 
 	// Rolls back what a failed superface emitted.
 	static void truncate(ChunkOut &o, size_t triCount)
@@ -1113,7 +1250,8 @@ private:
 						if (border_[size_t(3 * f + k)])
 							retightened_.push_back(t_.heFrom(3 * f + k));
 				}
-			} else if (fe - fb == 1 || (sf.second != Failure::Fold && !allLocked)) {
+			} else if (fe - fb == 1 ||
+			           (sf.second != Failure::Fold && sf.second != Failure::Distance && !allLocked)) {
 				for (int32_t i = fb; i < fe; ++i)
 					for (int k = 0; k < 3; ++k) {
 						const int32_t h = 3 * sfFace_[size_t(i)] + k;
