@@ -224,7 +224,11 @@ inline int8_t mergedOrigin(int level) { return int8_t(-2 - level); }
 inline int mergedLevel(int8_t origin) { return -2 - origin; } ///< for origin <= -2
 
 /// Builds Topology from the input (validated by the caller). featureAngleDeg: 2.3.2 threshold.
-void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &topo, size_t threads = 1);
+/// withGrid = false leaves topo.grid to buildFaceGrid (which only writes topo.grid: it may run
+/// on another thread while the partition is built).
+void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &topo, size_t threads = 1,
+                   bool withGrid = true);
+void buildFaceGrid(Topology &topo);
 
 /// 2.2.1 The finest near-coplanar sets: faces of one cell connected through 2-manifold edges.
 void finestPartition(const Topology &topo, int level, Partition &out);

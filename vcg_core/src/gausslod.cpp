@@ -92,7 +92,8 @@ Result buildLevels(const MeshView &mesh, const Params &params, const Progress &p
 		Topology topo;
 		if (!report(0.0, "adjacency and vertex classes"))
 			return res;
-		buildTopology(mesh, params.featureAngleDeg, topo, threadCount(params.threads));
+		const size_t threads = threadCount(params.threads);
+		buildTopology(mesh, params.featureAngleDeg, topo, threads, false);
 		const int finest = params.maxLevel - 1;
 		const bool across = params.mergeAcrossCells;
 		// cross-cell unions: normals within the level's bound of each other, and never across a
@@ -101,9 +102,18 @@ Result buildLevels(const MeshView &mesh, const Params &params, const Progress &p
 			return std::min(levelBoundDeg(level), params.featureAngleDeg);
 		};
 		std::vector<Partition> parts(size_t(params.maxLevel));
-		finestPartition(topo, finest, parts[size_t(finest)]);
-		if (across)
-			mergeAcrossCells(topo, acrossLimit(finest), parts[size_t(finest)]);
+		// the face grid (for the levels' flip checks) is built while the finest partition is
+		// (both serial; the grid only writes topo.grid)
+		const size_t tasks = threads > 1 ? 2 : 1;
+		onWorkers(tasks, [&](size_t task) {
+			if (task == 1 || tasks == 1)
+				buildFaceGrid(topo);
+			if (task == 0) {
+				finestPartition(topo, finest, parts[size_t(finest)]);
+				if (across)
+					mergeAcrossCells(topo, acrossLimit(finest), parts[size_t(finest)]);
+			}
+		});
 		const double setup = since(t0);
 		res.levels.reserve(size_t(params.maxLevel));
 		LevelMesh finer; // the previous (finer) level

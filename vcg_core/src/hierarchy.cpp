@@ -231,7 +231,14 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 			s = node[size_t(s)].parent = node[size_t(node[size_t(s)].parent)].parent;
 		return s;
 	};
-	for (const int32_t pi : order) {
+	constexpr size_t kAhead = 16; // (the nodes of a pair a few pairs ahead are fetched meanwhile)
+	for (size_t oi = 0; oi < order.size(); ++oi) {
+		if (oi + kAhead < order.size()) {
+			const Pair &ahead = pairs[size_t(order[oi + kAhead])];
+			__builtin_prefetch(&node[size_t(ahead.a)]);
+			__builtin_prefetch(&node[size_t(ahead.b)]);
+		}
+		const int32_t pi = order[oi];
 		const int32_t a = find(pairs[size_t(pi)].a), b = find(pairs[size_t(pi)].b);
 		if (a == b)
 			continue;

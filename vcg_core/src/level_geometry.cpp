@@ -77,16 +77,19 @@ struct ChunkOut {
 	std::vector<uint8_t> triBorder; ///< border edge bits | kNewTriangle
 	std::vector<std::pair<int32_t, Failure>> failed;
 	std::vector<Piece> straight; ///< pieces left straight (see separateParallelChains)
+	std::vector<int32_t> ringHE, ringStart, sfRings; ///< traced rings (until concatenated)
 	size_t retriangulated = 0;
 	void swap(ChunkOut &o)
 	{
 		tris.swap(o.tris), triBorder.swap(o.triBorder), failed.swap(o.failed);
 		straight.swap(o.straight), std::swap(retriangulated, o.retriangulated);
+		ringHE.swap(o.ringHE), ringStart.swap(o.ringStart), sfRings.swap(o.sfRings);
 	}
 	void clear()
 	{
 		tris.clear(), triBorder.clear();
 		failed.clear(), straight.clear();
+		ringHE.clear(), ringStart.clear(), sfRings.clear();
 		retriangulated = 0;
 	}
 };
@@ -327,7 +330,7 @@ private:
 
 	// Rings of superface s: from a border half-edge, the next one starts at its end vertex and is
 	// found by turning around that vertex inside the superface (works at pinched vertices too).
-	bool traceRings(int32_t s)
+	bool traceRings(int32_t s, std::vector<int32_t> &ringHE, std::vector<int32_t> &ringStart)
 	{
 		for (int32_t i = sfStart_[size_t(s)]; i < sfStart_[size_t(s) + 1]; ++i) {
 			const int32_t f = sfFace_[size_t(i)];
@@ -335,11 +338,11 @@ private:
 				const int32_t h0 = 3 * f + k;
 				if (!border_[size_t(h0)] || visited_[size_t(h0)])
 					continue;
-				ringStart_.push_back(int32_t(ringHE_.size()));
+				ringStart.push_back(int32_t(ringHE.size()));
 				int32_t h = h0;
 				do {
 					visited_[size_t(h)] = 1;
-					ringHE_.push_back(h);
+					ringHE.push_back(h);
 					const int32_t b = t_.heTo(h);
 					const int32_t guard = t_.vfStart[size_t(b) + 1] - t_.vfStart[size_t(b)] + 1;
 					int32_t e = heNext(h), steps = 0;
@@ -1033,25 +1036,40 @@ private:
 				for (int32_t q = t_.vfStart[size_t(v)]; q < t_.vfStart[size_t(v) + 1]; ++q)
 					dirty_[size_t(p_.label[size_t(t_.vfFace[size_t(q)])])] = 1;
 		}
-		ringHE_.clear();
-		ringStart_.clear();
-		sfRingStart_.assign(p_.count() + 1, 0);
 		broken_.assign(p_.count(), 0);
 		visited_.assign(3 * t_.nF, 0);
-		for (size_t s = 0; s < p_.count(); ++s) {
-			sfRingStart_[s] = int32_t(ringStart_.size());
-			if (!dirty_[s])
-				continue;
-			const size_t ringsBefore = ringStart_.size(), heBefore = ringHE_.size();
-			if (!traceRings(int32_t(s))) {
-				ringStart_.resize(ringsBefore), ringHE_.resize(heBefore);
-				broken_[s] = 1;
-			}
-		}
-		release(visited_); // (only the tracing needs it)
-		sfRingStart_[p_.count()] = int32_t(ringStart_.size());
-		ringStart_.push_back(int32_t(ringHE_.size()));
 		makeChunks();
+		// rings traced per chunk (a superface's walk only marks its own half-edges), then
+		// concatenated in superface order
+		forEachChunk([&](size_t c, Scratch &) {
+			ChunkOut &o = chunks_[c];
+			for (int32_t s = chunkStart_[c]; s < chunkStart_[c + 1]; ++s) {
+				const size_t ringsBefore = o.ringStart.size(), heBefore = o.ringHE.size();
+				if (dirty_[size_t(s)] && !traceRings(s, o.ringHE, o.ringStart)) {
+					o.ringStart.resize(ringsBefore), o.ringHE.resize(heBefore);
+					broken_[size_t(s)] = 1;
+				}
+				o.sfRings.push_back(int32_t(o.ringStart.size() - ringsBefore));
+			}
+		});
+		release(visited_); // (only the tracing needs it)
+		size_t nRings = 0, nHE = 0;
+		for (const ChunkOut &o : chunks_)
+			nRings += o.ringStart.size(), nHE += o.ringHE.size();
+		ringHE_.clear(), ringStart_.clear();
+		ringHE_.reserve(nHE), ringStart_.reserve(nRings + 1);
+		sfRingStart_.assign(p_.count() + 1, 0);
+		for (size_t c = 0; c < chunks_.size(); ++c) {
+			ChunkOut &o = chunks_[c];
+			const int32_t heBase = int32_t(ringHE_.size());
+			for (int32_t s = chunkStart_[c]; s < chunkStart_[c + 1]; ++s)
+				sfRingStart_[size_t(s) + 1] = sfRingStart_[size_t(s)] + o.sfRings[size_t(s - chunkStart_[c])];
+			for (const int32_t r : o.ringStart)
+				ringStart_.push_back(heBase + r);
+			ringHE_.insert(ringHE_.end(), o.ringHE.begin(), o.ringHE.end());
+			release(o.ringHE), release(o.ringStart), release(o.sfRings);
+		}
+		ringStart_.push_back(int32_t(ringHE_.size()));
 		collectAndSimplifyPieces(patch);
 		// (a patch round separates the recomputed pieces among themselves; one that straightens
 		// onto an unchanged chain is caught by checkEdges and falls back)

@@ -245,7 +245,9 @@ void classifyVertices(Topology &t, double thresholdDeg, size_t threads)
 // kept in a separate list that every query scans (a few huge faces among many tiny ones must
 // neither be walked cell by cell nor make the cells huge); cells grow while that list or the
 // listing grows too long.
-void buildGrid(Topology &t)
+} // namespace
+
+void buildFaceGrid(Topology &t)
 {
 	constexpr double kBigCells = 64;
 	FaceGrid &g = t.grid;
@@ -337,9 +339,8 @@ void buildGrid(Topology &t)
 			forCells(f, [&](uint64_t c) { g.face[size_t(fill[c]++)] = int32_t(f); });
 }
 
-} // namespace
-
-void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &t, size_t threads)
+void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &t, size_t threads,
+                   bool withGrid)
 {
 	t.nV = mesh.vertexCount;
 	t.nF = mesh.faceCount;
@@ -351,7 +352,8 @@ void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &t, si
 	buildTwins(t, threads);
 	lockNonManifoldVertices(t, threads);
 	classifyVertices(t, featureAngleDeg, threads);
-	buildGrid(t);
+	if (withGrid)
+		buildFaceGrid(t);
 }
 
 } // namespace detail
