@@ -19,9 +19,9 @@ namespace {
 
 constexpr double kRadToDeg = 57.295779513082320876798;
 constexpr int kMaxRounds = 64;
-// A superface that fails with straightened borders gets them straightened again with half the
-// tolerances, up to this many times, before its border vertices are locked.
-constexpr int kMaxTolSteps = 1;
+// A superface that fails with straightened borders gets them straightened again with a quarter
+// of the tolerances (kTolShift = 2), up to this many times, before its border vertices are locked.
+constexpr int kMaxTolSteps = 2;
 constexpr int kTolShift = 2;
 
 class Stopwatch {
@@ -170,9 +170,9 @@ private:
 	std::vector<int32_t> degree_;             // border edges per vertex
 	std::vector<uint8_t> junction_, keep_, extraLock_;
 	std::vector<uint8_t> tolStep_;            // per input face: its superface's border tolerances
-	                                          // were halved this many times (see applyFallbacks)
+	                                          // were divided by 4 this many times (see applyFallbacks)
 	std::vector<int32_t> retightened_;        // border vertices of superfaces whose tolerances the
-	                                          // last fallbacks halved
+	                                          // last fallbacks divided
 	std::vector<uint8_t> changed_;            // patch round: degree or junction status changed
 	std::vector<int32_t> changedList_;        // the vertices marked in changed_
 	std::vector<int32_t> relabeled_;          // faces whose superface the last fallbacks split
@@ -534,7 +534,7 @@ private:
 		}
 	}
 
-	// The tolerances of a chain: halved for each fallback step of either superface along it (a
+	// The tolerances of a chain: divided by 4 for each fallback step of either superface along it (a
 	// chain lies between the same two superfaces all along: a change of neighbour is a junction).
 	double pieceScale(const Piece &pc) const
 	{
@@ -553,7 +553,7 @@ private:
 		loadSequence(pc, w);
 		const int32_t n = pc.len; // w.seq[0] and w.seq[n] are the ends
 		auto P = [&](int32_t i) { return t_.pos(w.seq[size_t(i)]); };
-		// (halved per fallback of either superface along the chain, see applyFallbacks)
+		// (divided by 4 per fallback of either superface along the chain, see applyFallbacks)
 		const double scale = pieceScale(pc);
 		const double tol = std::max(tolerance_ * scale, 1e-9 * t_.diagonal);
 		int32_t &kept = pc.kept; // interior vertices kept
@@ -1232,7 +1232,7 @@ private:
 	}
 
 	// A failed superface first has its border locked (no straightening, no merging) - after a
-	// deviation failure, first its chains are straightened and merged again with half the
+	// deviation failure, first its chains are straightened and merged again with a quarter of the
 	// tolerances, up to kMaxTolSteps times; if it still fails, it is split into its children of
 	// the next finer level; a single input face that fails gets its vertices locked (it is then
 	// kept as it is). A fold of the projection skips to the split.
@@ -1260,7 +1260,7 @@ private:
 				}
 			const int step = tolStep_[size_t(sfFace_[size_t(fb)])];
 			if (fe - fb > 1 && sf.second == Failure::Deviation && !allLocked && step < kMaxTolSteps) {
-				// its chains are straightened and merged again with half the tolerances
+				// its chains are straightened and merged again with a quarter of the tolerances
 				for (int32_t i = fb; i < fe; ++i) {
 					const int32_t f = sfFace_[size_t(i)];
 					tolStep_[size_t(f)] = uint8_t(step + 1);
