@@ -56,8 +56,10 @@ double angleDeg(const Vec3 &a, const Vec3 &b)
 // Why a superface failed: Fold (its projection folds, or its rings could not be traced) goes
 // straight to the split; Deviation (an input face deviates from its new triangle more than the
 // limit: often a straightened border cutting across a slightly curved region) first retries with
-// tighter straightening; Ring (anything else) first locks the border. (Retrying the others with
-// tighter straightening too was measured: more faces at level 0 on cow and bumpy meshes.)
+// tighter straightening (as does a removed border vertex beyond Params::maxDistance); Distance
+// (an input face beyond Params::maxDistance from its new triangles) goes straight to the split;
+// Ring (anything else) first locks the border. (Retrying the others with tighter straightening
+// too was measured: more faces at level 0 on cow and bumpy meshes.)
 enum class Failure : uint8_t { None, Ring, Fold, Deviation, Distance };
 
 // A chain of border edges between two junction vertices (or a closed loop with none), stored as a
@@ -683,7 +685,7 @@ private:
 				gap[c] = (t_.pos(t_.T[3 * f + c]) - q).dot(n) / nN;
 				within = within && std::fabs(gap[c]) <= eps;
 			}
-			if (within || ntri == 1) // (one triangle: every face is all above it)
+			if (within || ntri == 1) // (one triangle, no queries: the corners decide, conservatively)
 				return !within;
 			// the face (2D, its corners' queries) clipped by triangle k (Sutherland-Hodgman)
 			double poly[2][12][2];
