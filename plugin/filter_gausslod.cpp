@@ -139,7 +139,7 @@ QString levelLabel(const QString &base, const gausslod::LevelStats &s)
 	    .arg(QString::number(s.boundDeg, 'g', 3));
 }
 
-QString levelLogLine(const gausslod::LevelStats &s)
+QString levelLogLine(const gausslod::LevelStats &s, double diag)
 {
 	QString line =
 	    QString("LOD%1 (%2x%2 cells per cube face, bound %3 deg): %4 faces, %5 vertices, "
@@ -158,6 +158,9 @@ QString levelLogLine(const gausslod::LevelStats &s)
 	        .arg(QString::number(s.seconds, 'f', 3));
 	if (s.unmeasuredFaces > 0)
 		line += QString(" (%1 input faces not measured)").arg(thousands(s.unmeasuredFaces));
+	if (s.maxDistance >= 0 && diag > 0)
+		line += QString("; distance bound %1 % of the diagonal (as the tolerance check measures it)")
+		            .arg(QString::number(100.0 * s.maxDistance / diag, 'f', 4));
 	if (s.reusedFiner)
 		line += QString("; same mesh as LOD%1 (merging gave more faces)").arg(s.level + 1);
 	return line;
@@ -347,7 +350,8 @@ bool FilterGaussLodPlugin::buildGaussSphereLods(MeshDocument &md, const RichPara
 	const gausslod::MeshView view = flat.view();
 	FilterRequest req;
 	QString error;
-	if (!readRequest(par, gausslod::bboxDiagonal(view), req, error)) {
+	const double diag = gausslod::bboxDiagonal(view);
+	if (!readRequest(par, diag, req, error)) {
 		errorMessage = error;
 		return false;
 	}
@@ -396,7 +400,7 @@ bool FilterGaussLodPlugin::buildGaussSphereLods(MeshDocument &md, const RichPara
 	md.setCurrent(coarsest);
 
 	for (const gausslod::LevelMesh &level : result.levels)
-		Log(levelLogLine(level.stats).toStdString());
+		Log(levelLogLine(level.stats, diag).toStdString());
 	Log(QString(
 	        "Gauss sphere LOD of '%1' (%2 faces, %3 vertices): %4 layer(s) added, %5 s in total")
 	        .arg(input->label())

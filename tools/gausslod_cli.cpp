@@ -168,6 +168,22 @@ int main(int argc, char **argv)
 		mallopt(M_MMAP_THRESHOLD, 256 << 10);
 #endif
 	const double diag = gausslod::bboxDiagonal(flat.view());
+	// the distance bound measured by the tolerance check, % of the diagonal ("null" when off)
+	const bool distanceColumn = maxDistancePct > 0;
+	auto distancePct = [&](const gausslod::LevelStats &s) {
+		if (s.maxDistance < 0 || !(diag > 0))
+			return std::string("null");
+		char buf[32];
+		std::snprintf(buf, sizeof buf, "%.4f", 100.0 * s.maxDistance / diag);
+		return std::string(buf);
+	};
+	auto distanceCell = [&](const gausslod::LevelStats &s) {
+		if (!distanceColumn)
+			return std::string();
+		char buf[48];
+		std::snprintf(buf, sizeof buf, "  %9s", distancePct(s).c_str());
+		return std::string(buf);
+	};
 	params.straightenTolerance = straightenPct / 100.0 * diag;
 	params.mergeDistance = mergePct / 100.0 * diag;
 	params.maxDistance = maxDistancePct / 100.0 * diag;
@@ -181,11 +197,12 @@ int main(int argc, char **argv)
 			first = false;
 			mkdir(outdir.c_str(), 0777);
 			if (!json) {
-				std::printf("%-6s %9s %9s %10s %9s %9s %9s %9s %8s\n", "level", "faces", "vertices",
-				            "superfaces", "fallback", "bound", "maxdev", "meandev", "seconds");
-				std::printf("%-6s %9zu %9zu %10s %9s %9s %9s %9s %8s\n", "input",
+				std::printf("%-6s %9s %9s %10s %9s %9s %9s %9s %8s%s\n", "level", "faces", "vertices",
+				            "superfaces", "fallback", "bound", "maxdev", "meandev", "seconds",
+				            distanceColumn ? " distbound%" : "");
+				std::printf("%-6s %9zu %9zu %10s %9s %9s %9s %9s %8s%s\n", "input",
 				            flat.triangles.size() / 3, flat.positions.size() / 3, "-", "-", "-", "-",
-				            "-", "-");
+				            "-", "-", distanceColumn ? "          -" : "");
 			}
 		}
 		const gausslod::LevelStats &s = lm.stats;
@@ -198,15 +215,16 @@ int main(int argc, char **argv)
 			            "\"max_dev_deg\":%.4f,\"mean_dev_deg\":%.4f,\"unmeasured_faces\":%zu,"
 			            "\"seconds\":%.4f,\"seconds_partition\":%.4f,\"seconds_borders\":%.4f,"
 			            "\"seconds_triangulation\":%.4f,\"seconds_checks\":%.4f,\"rounds\":%d,"
-			            "\"reused_finer\":%s,\"file\":\"%s\"}\n",
+			            "\"reused_finer\":%s,\"distance_bound_pct\":%s,\"file\":\"%s\"}\n",
 			            s.level, s.faces, s.vertices, s.superfaces, s.fallbacks, s.retriangulated,
 			            s.boundDeg, s.maxNormalDevDeg, s.meanNormalDevDeg, s.unmeasuredFaces,
 			            s.seconds, s.secondsPartition, s.secondsBorders, s.secondsTriangulation,
-			            s.secondsChecks, s.rounds, s.reusedFiner ? "true" : "false", file.c_str());
+			            s.secondsChecks, s.rounds, s.reusedFiner ? "true" : "false",
+			            distancePct(s).c_str(), file.c_str());
 		else
-			std::printf("LOD%-3d %9zu %9zu %10zu %9zu %9.2f %9.2f %9.3f %8.3f\n", s.level, s.faces,
+			std::printf("LOD%-3d %9zu %9zu %10zu %9zu %9.2f %9.2f %9.3f %8.3f%s\n", s.level, s.faces,
 			            s.vertices, s.superfaces, s.fallbacks, s.boundDeg, s.maxNormalDevDeg,
-			            s.meanNormalDevDeg, s.seconds);
+			            s.meanNormalDevDeg, s.seconds, distanceCell(s).c_str());
 		std::fflush(stdout);
 		return true;
 	};

@@ -442,6 +442,19 @@ TEST_F(GaussLodPlugin, a_distance_tolerance_keeps_more_faces_where_levels_would_
 		EXPECT_GE(bounded.meshList.at(i)->cm.fn, free.meshList.at(i)->cm.fn) << i;
 	// the coarsest level flattens the cow by ~2.5 % of its diagonal without the tolerance
 	EXPECT_GT(bounded.meshList.back()->cm.fn, free.meshList.back()->cm.fn);
+	// each level's log line gives the distance bound measured, within the tolerance (0.1 %)
+	const QStringList lines = logLines();
+	const QRegularExpression bound("^LOD[0-4] .*; distance bound ([0-9.]+) % of the diagonal");
+	int seen = 0;
+	for (const QString &line : lines) {
+		const QRegularExpressionMatch m = bound.match(line);
+		if (!m.hasMatch())
+			continue;
+		++seen;
+		EXPECT_LE(m.captured(1).toDouble(), 0.1 + 1e-4) << qUtf8Printable(line);
+		EXPECT_GT(m.captured(1).toDouble(), 0.0) << qUtf8Printable(line);
+	}
+	EXPECT_EQ(seen, 5) << qUtf8Printable(lines.join("\n"));
 }
 
 TEST_F(GaussLodPlugin, default_script_runs_in_process_like_meshlabserver)

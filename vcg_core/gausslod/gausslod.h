@@ -91,6 +91,11 @@ struct LevelStats {
 	double meanNormalDevDeg = 0; ///< area-weighted mean of the same
 	size_t unmeasuredFaces = 0;  ///< input faces whose centroid fell outside their superface's
 	                             ///< straightened outline (not in the two figures above)
+	double maxDistance = -1;     ///< with Params::maxDistance > 0: the largest distance the
+	                             ///< tolerance check measured (removed border vertices from their
+	                             ///< straightened chain, input faces from the triangles above
+	                             ///< them along the projection; mesh units): a bound, often above
+	                             ///< the Hausdorff distance; -1 = not measured (tolerance off)
 	double seconds = 0;          ///< wall time spent on this level, the sum of the stages:
 	double secondsPartition = 0; ///<  merging the finer level's superfaces (2.5; finest level:
 	                             ///<  adjacency, vertex classes and the finest buckets, 2.1-2.2.1)

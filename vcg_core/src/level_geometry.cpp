@@ -127,6 +127,8 @@ public:
 		extraLock_.assign(t_.nV, 0);
 		tolStep_.assign(t_.nF, 0);
 		faceDev_.assign(t_.nF, -1.0f); // (kept across rounds: a superface rebuilt resets its faces)
+		if (prm_.maxDistance > 0)
+			faceGap_.assign(t_.nF, 0.0f);
 		threads_ = threadCount(prm_.threads);
 		scratch_.resize(threads_);
 		size_t fallbacks = 0;
@@ -189,6 +191,8 @@ private:
 	std::vector<int32_t> tris_, triSf_;
 	std::vector<uint8_t> triBorder_;          // per triangle: border edge bits | kNewTriangle
 	std::vector<float> faceDev_;              // per input face, degrees; -1 = not measured
+	std::vector<float> faceGap_;              // per input face: distance measured by the
+	                                          // tolerance check (Params::maxDistance > 0 only)
 	size_t retriangulated_ = 0;
 	// work split in chunks of consecutive superfaces, run on threads_ threads
 	size_t threads_ = 1;
@@ -641,8 +645,10 @@ private:
 	// projection). A face crossing a triangle that holds neither its centroid nor a corner is not
 	// seen. A border too far is a Deviation (tighter tolerances, then a locked border fix it), a
 	// face too far a Distance failure (only a split fixes it).
+	// The distances measured are kept per input face (faceGap_; a removed border vertex's on the
+	// face of its ring edge) for the level's figure.
 	Failure distanceCheck(int32_t s, int32_t fb, int32_t fe, const Vec3 &N, size_t firstTri,
-	                      const Scratch &w, const ChunkOut &o) const
+	                      const Scratch &w, const ChunkOut &o)
 	{
 		const double eps = prm_.maxDistance;
 		for (int32_t r = sfRingStart_[size_t(s)]; r < sfRingStart_[size_t(s) + 1]; ++r) {
@@ -665,28 +671,34 @@ private:
 				const Vec3 c = t_.pos(v);
 				for (int32_t k = 0; k < run; ++k) {
 					const int32_t j = b + (runStart - b + k) % (e - b);
-					if (pointSegmentDistance(t_.pos(t_.heFrom(ringHE_[size_t(j)])), a, c) > eps)
+					const double d = pointSegmentDistance(t_.pos(t_.heFrom(ringHE_[size_t(j)])), a, c);
+					if (d > eps)
 						return Failure::Deviation;
+					float &g = faceGap_[size_t(heFace(ringHE_[size_t(j)]))];
+					g = std::max(g, float(d));
 				}
 				a = c, run = 0;
 			}
 		}
 		const size_t ntri = o.tris.size() / 3 - firstTri;
 		const size_t faces = size_t(fe - fb);
-		// gap at face i's corners to triangle k's plane (along N), then over the clipped part
+		// gap at face i's corners to triangle k's plane (along N), then over the clipped part;
+		// true if beyond eps, else the largest gap seen is kept in faceGap_
 		auto faceTooFar = [&](size_t i, int32_t k) {
 			const int32_t f = sfFace_[size_t(fb) + i];
 			const Vec3 &n = w.triNormal[size_t(k)];
 			const Vec3 &q = t_.pos(o.tris[3 * (firstTri + size_t(k))]);
 			const double nN = n.dot(N);
-			double gap[3];
-			bool within = true;
+			double gap[3], cornerMax = 0;
 			for (int c = 0; c < 3; ++c) {
 				gap[c] = (t_.pos(t_.T[3 * f + c]) - q).dot(n) / nN;
-				within = within && std::fabs(gap[c]) <= eps;
+				cornerMax = std::max(cornerMax, std::fabs(gap[c]));
 			}
-			if (within || ntri == 1) // (one triangle, no queries: the corners decide, conservatively)
-				return !within;
+			float &kept = faceGap_[size_t(f)];
+			if (cornerMax <= eps || ntri == 1) { // (one triangle, no queries: the corners decide)
+				kept = std::max(kept, float(cornerMax));
+				return cornerMax > eps;
+			}
 			// the face (2D, its corners' queries) clipped by triangle k (Sutherland-Hodgman)
 			double poly[2][12][2];
 			int cnt = 3;
@@ -724,13 +736,16 @@ private:
 			const double det = (fxy[2] - fxy[0]) * (fxy[5] - fxy[1]) - (fxy[4] - fxy[0]) * (fxy[3] - fxy[1]);
 			if (!(std::fabs(det) > 0))
 				return true; // a face seen edge-on in the projection: not measurable, refused
+			double clippedMax = 0;
 			for (int j = 0; j < cnt; ++j) {
 				const double dx = poly[cur][j][0] - fxy[0], dy = poly[cur][j][1] - fxy[1];
 				const double b1 = (dx * (fxy[5] - fxy[1]) - dy * (fxy[4] - fxy[0])) / det;
 				const double b2 = ((fxy[2] - fxy[0]) * dy - (fxy[3] - fxy[1]) * dx) / det;
-				if (std::fabs((1 - b1 - b2) * gap[0] + b1 * gap[1] + b2 * gap[2]) > eps)
-					return true;
+				clippedMax = std::max(clippedMax, std::fabs((1 - b1 - b2) * gap[0] + b1 * gap[1] + b2 * gap[2]));
 			}
+			if (clippedMax > eps)
+				return true;
+			kept = std::max(kept, float(clippedMax));
 			return false;
 		};
 		for (size_t i = 0; i < faces; ++i) {
@@ -1135,8 +1150,11 @@ private:
 		c.faceCount = sfStart_[size_t(s) + 1] - sfStart_[size_t(s)];
 		Failure f = Failure::None;
 		if (broken_[size_t(s)] || !reuse(s, c, w, o)) {
-			for (int32_t i = sfStart_[size_t(s)]; i < sfStart_[size_t(s) + 1]; ++i)
+			for (int32_t i = sfStart_[size_t(s)]; i < sfStart_[size_t(s) + 1]; ++i) {
 				faceDev_[size_t(sfFace_[size_t(i)])] = -1.0f; // (measured again below)
+				if (!faceGap_.empty())
+					faceGap_[size_t(sfFace_[size_t(i)])] = 0.0f;
+			}
 			f = broken_[size_t(s)] ? Failure::Fold : retriangulate(s, w, o);
 		}
 		if (f != Failure::None) {
@@ -1416,6 +1434,8 @@ private:
 		st.maxNormalDevDeg = maxDev;
 		st.meanNormalDevDeg = area > 0 ? sum / area : 0;
 		st.unmeasuredFaces = unmeasured;
+		if (!faceGap_.empty())
+			st.maxDistance = double(*std::max_element(faceGap_.begin(), faceGap_.end()));
 	}
 };
 
