@@ -7,7 +7,7 @@
 #   4. File > Save Project: MeshLab asks for a file for every new layer, in layer order, in a dialog
 #      titled 'Save "<layer label>" Layer'; the test answers each one, then saves the .mlp project;
 #   5. checks one layer per level (labels, order, saved PLY face counts, project file) and the log;
-#   6. leaves screenshots (import -window root) in OUT_DIR.
+#   6. leaves screenshots (import -window root) in OUT_DIR (the dialog: 2b_dialog.png).
 # usage: test_gui_filter.sh MESHLAB_PREFIX MENU_INDEX_TOOL DATA_DIR OUT_DIR
 set -uo pipefail
 
@@ -110,6 +110,7 @@ done
 # ---- 3. Apply with the defaults ------------------------------------------------------------------
 step "filter dialog open; clicking Apply"
 sleep 0.3 # let the dialog lay itself out
+import -window root "$out/2b_dialog.png"
 eval "$(xdotool getwindowgeometry --shell "$dialog")"
 # the dialog ends with two rows of buttons: Default|Help, Close|Apply (Apply = bottom right)
 xdotool mousemove --window "$dialog" $((WIDTH * 3 / 4)) $((HEIGHT - 23)) click 1
