@@ -162,7 +162,7 @@ int main(int argc, char **argv)
 	}
 #ifdef __GLIBC__
 	// below 500k faces the freed arrays weigh more in the peak and are cheap to map: a 256 KB
-	// threshold (100k-face mesh: 29.0 -> 27.1 MB, 0.215 -> 0.228 s; on a 1M-face mesh a 2 MB
+	// threshold (100k-face mesh: 29.0 -> 27.1-27.4 MB, 0.215 -> 0.222-0.228 s; on a 1M-face mesh a 2 MB
 	// threshold cost 4 % time for no memory gain)
 	if (flat.triangles.size() / 3 < 500000)
 		mallopt(M_MMAP_THRESHOLD, 256 << 10);

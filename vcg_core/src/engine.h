@@ -228,6 +228,7 @@ inline int mergedLevel(int8_t origin) { return -2 - origin; } ///< for origin <=
 /// on another thread while the partition is built).
 void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &topo, size_t threads = 1,
                    bool withGrid = true);
+/// topo.grid over the valid faces (see FaceGrid); needs the faces' validity.
 void buildFaceGrid(Topology &topo);
 
 /// 2.2.1 The finest near-coplanar sets: faces of one cell connected through 2-manifold edges.

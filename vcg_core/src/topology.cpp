@@ -241,12 +241,12 @@ void classifyVertices(Topology &t, double thresholdDeg, size_t threads)
 	});
 }
 
+} // namespace
+
 // Cells about twice the median face extent; a face that would span more than kBigCells cells is
 // kept in a separate list that every query scans (a few huge faces among many tiny ones must
 // neither be walked cell by cell nor make the cells huge); cells grow while that list or the
 // listing grows too long.
-} // namespace
-
 void buildFaceGrid(Topology &t)
 {
 	constexpr double kBigCells = 64;
