@@ -143,7 +143,7 @@ public:
 			// and so does a tighter re-simplification: a level already over its limit this way is
 			// abandoned. (Later rounds can lose a few faces when a chain's new junctions make it
 			// simplify differently: 0.3 % was the most seen; the limit is the finer level's count.)
-			const size_t atLeast = tris_.size() / 3 + failed_.size();
+			const size_t atLeast = liveTris_ + failed_.size();
 			if (atLeast > faceLimit_) {
 				out_.stats.faces = atLeast;
 				out_.stats.rounds = round + 1;
@@ -188,7 +188,8 @@ private:
 	std::vector<Piece> pieces_;
 	std::vector<std::pair<int32_t, Failure>> failed_;
 	// output of a round
-	std::vector<int32_t> tris_, triSf_;
+	std::vector<int32_t> tris_, triSf_; // (after a patch round with failures: see buildOnce)
+	size_t liveTris_ = 0;               // triangles of the round's superfaces
 	std::vector<uint8_t> triBorder_;          // per triangle: border edge bits | kNewTriangle
 	std::vector<float> faceDev_;              // per input face, degrees; -1 = not measured
 	std::vector<float> faceGap_;              // per input face: distance measured by the
@@ -1101,15 +1102,51 @@ private:
 				buildSuperface(sf, w, chunks_[c]);
 		});
 		release(ringHE_), release(ringStart_), release(sfRingStart_), release(pieces_);
-		// concatenate in superface order (offsets of rebuilt superfaces in cache_ were chunk-
-		// relative), freeing each chunk once appended
-		size_t nt = 0;
+		size_t nt = 0, rebuilt = 0;
+		bool failures = false;
 		for (const ChunkOut &o : chunks_)
-			nt += o.triBorder.size();
+			rebuilt += o.triBorder.size(), failures = failures || !o.failed.empty();
+		nt = rebuilt;
 		for (size_t sf = 0; sf < p_.count(); ++sf)
 			if (!dirty_[sf])
 				nt += size_t(cache_[sf].triEnd - cache_[sf].triBegin);
-		tris_.reserve(3 * nt), triSf_.reserve(nt), triBorder_.reserve(nt);
+		liveTris_ = nt;
+		// A patch round with failures is followed by another round: the rebuilt superfaces are
+		// appended to the previous round's triangles, which the others still point into (no
+		// copy of the whole level, no triangle -> superface array), while they fit in the room
+		// left by the last concatenation and the dropped triangles stay under half of the live
+		// ones. Otherwise the round's triangles are concatenated in superface order (what the
+		// whole-level check and the output use), with a quarter more room if rounds follow.
+		const size_t stored = prevTriBorder_.size() + rebuilt;
+		if (patch && failures && 2 * stored <= 3 * nt && stored <= prevTriBorder_.capacity() &&
+		    3 * stored <= prevTris_.capacity()) {
+			tris_.swap(prevTris_), triBorder_.swap(prevTriBorder_), release(triSf_);
+			for (size_t c = 0; c < chunks_.size(); ++c) {
+				ChunkOut &o = chunks_[c];
+				for (int32_t sf = chunkStart_[c]; sf < chunkStart_[c + 1]; ++sf) {
+					Cached &cc = cache_[size_t(sf)];
+					if (!dirty_[size_t(sf)]) { // (its range is in these arrays already)
+						retriangulated_ += cc.retriangulated;
+						continue;
+					}
+					const int32_t begin = int32_t(triBorder_.size());
+					tris_.insert(tris_.end(), o.tris.begin() + 3 * cc.triBegin, o.tris.begin() + 3 * cc.triEnd);
+					triBorder_.insert(triBorder_.end(), o.triBorder.begin() + cc.triBegin,
+					                  o.triBorder.begin() + cc.triEnd);
+					cc.triEnd = begin + (cc.triEnd - cc.triBegin), cc.triBegin = begin;
+				}
+				failed_.insert(failed_.end(), o.failed.begin(), o.failed.end());
+				retriangulated_ += o.retriangulated;
+				ChunkOut().swap(o);
+			}
+			release(prevCache_), release(prevLabel_);
+			out_.stats.secondsTriangulation += clock_.lap();
+			return;
+		}
+		// concatenate in superface order (offsets of rebuilt superfaces in cache_ were chunk-
+		// relative), freeing each chunk once appended
+		const size_t room = failures ? nt + nt / 4 : nt;
+		tris_.reserve(3 * room), triSf_.reserve(nt), triBorder_.reserve(room);
 		for (size_t c = 0; c < chunks_.size(); ++c) {
 			ChunkOut &o = chunks_[c];
 			for (int32_t sf = chunkStart_[c]; sf < chunkStart_[c + 1]; ++sf) {
