@@ -104,6 +104,10 @@ struct Scratch {
 	std::vector<Vec3> triNormal, centroid;
 	std::vector<double> ownDist2;
 	std::vector<uint8_t> covered;
+	// distance tolerance: each vertex of a superface's faces located once
+	std::vector<int32_t> vertQuery;   ///< per input vertex: its query, -1 between superfaces
+	std::vector<int32_t> cornerQuery; ///< per face corner of the superface: its vertex's query
+	std::vector<int32_t> touched;     ///< the vertices given a query (to reset vertQuery)
 };
 
 class LevelBuilder {
@@ -640,7 +644,7 @@ private:
 
 	// Params::maxDistance on a re-triangulated superface: the removed vertices of its rings
 	// against the straightened ring edges; each input face against the triangles its centroid
-	// and its corners fall in: along the projection direction N, the gap between the face and a
+	// and its corners fall in (each vertex is located once: cornerQuery): along the projection direction N, the gap between the face and a
 	// triangle's plane is linear over the face, so its largest value over the part of the face
 	// above that triangle is at a corner of that part (the face clipped by the triangle, in the
 	// projection). A face crossing a triangle that holds neither its centroid nor a corner is not
@@ -703,9 +707,12 @@ private:
 			// the face (2D, its corners' queries) clipped by triangle k (Sutherland-Hodgman)
 			double poly[2][12][2];
 			int cnt = 3;
-			const double *fxy = &w.job.queryXY[2 * (faces + 3 * i)];
-			for (int c = 0; c < 3; ++c)
-				poly[0][c][0] = fxy[2 * c], poly[0][c][1] = fxy[2 * c + 1];
+			double fxy[6];
+			for (int c = 0; c < 3; ++c) {
+				const size_t q = faces + size_t(w.cornerQuery[3 * i + size_t(c)]);
+				fxy[2 * c] = poly[0][c][0] = w.job.queryXY[2 * q];
+				fxy[2 * c + 1] = poly[0][c][1] = w.job.queryXY[2 * q + 1];
+			}
 			const int32_t *tv = &w.job.tris[3 * size_t(k)];
 			double area = 0; // of triangle k, for its orientation
 			for (int e = 0; e < 3; ++e) {
@@ -755,8 +762,10 @@ private:
 					return Failure::Distance;
 				continue;
 			}
-			const int32_t *corner = &w.job.queryTri[faces + 3 * i];
-			const int32_t under[4] = {w.job.queryTri[i], corner[0], corner[1], corner[2]};
+			const int32_t *cq = &w.cornerQuery[3 * i];
+			const int32_t under[4] = {w.job.queryTri[i], w.job.queryTri[faces + size_t(cq[0])],
+			                          w.job.queryTri[faces + size_t(cq[1])],
+			                          w.job.queryTri[faces + size_t(cq[2])]};
 			for (int j = 0; j < 4; ++j) {
 				const int32_t k = under[j];
 				if (k < 0 || std::find(under, under + j, k) != under + j)
@@ -844,13 +853,28 @@ private:
 				w.job.queryXY[2 * size_t(i - fb)] = c.dot(U);
 				w.job.queryXY[2 * size_t(i - fb) + 1] = c.dot(V);
 			}
-			if (prm_.maxDistance > 0) // and every face's corners (see distanceCheck)
+			if (prm_.maxDistance > 0) { // and every vertex of its faces, once (see distanceCheck)
+				if (w.vertQuery.size() != t_.nV)
+					w.vertQuery.assign(t_.nV, -1);
+				w.cornerQuery.resize(3 * size_t(fe - fb));
+				int32_t next = 0;
 				for (int32_t i = fb; i < fe; ++i)
 					for (int k = 0; k < 3; ++k) {
-						const Vec3 q = t_.pos(t_.T[3 * sfFace_[size_t(i)] + k]) - origin;
-						w.job.queryXY.push_back(q.dot(U));
-						w.job.queryXY.push_back(q.dot(V));
+						const int32_t v = t_.T[3 * sfFace_[size_t(i)] + k];
+						int32_t &q = w.vertQuery[size_t(v)];
+						if (q < 0) {
+							q = next++;
+							w.touched.push_back(v);
+							const Vec3 p = t_.pos(v) - origin;
+							w.job.queryXY.push_back(p.dot(U));
+							w.job.queryXY.push_back(p.dot(V));
+						}
+						w.cornerQuery[3 * size_t(i - fb) + size_t(k)] = q;
 					}
+				for (const int32_t v : w.touched)
+					w.vertQuery[size_t(v)] = -1;
+				w.touched.clear();
+			}
 			if (!triangulateRings(w.job))
 				return Failure::Ring;
 			for (size_t k = 0; k < w.job.tris.size(); k += 3)
