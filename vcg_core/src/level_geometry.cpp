@@ -644,14 +644,14 @@ private:
 
 	// Params::maxDistance on a re-triangulated superface: the removed vertices of its rings
 	// against the straightened ring edges; each input face against the triangles its centroid
-	// and its corners fall in (each vertex is located once: cornerQuery): along the projection direction N, the gap between the face and a
-	// triangle's plane is linear over the face, so its largest value over the part of the face
-	// above that triangle is at a corner of that part (the face clipped by the triangle, in the
-	// projection). A face crossing a triangle that holds neither its centroid nor a corner is not
-	// seen. A border too far is a Deviation (tighter tolerances, then a locked border fix it), a
-	// face too far a Distance failure (only a split fixes it).
-	// The distances measured are kept per input face (faceGap_; a removed border vertex's on the
-	// face of its ring edge) for the level's figure.
+	// and its corners fall in (each vertex located once, see cornerQuery): along the projection
+	// direction N, the gap between the face and a triangle's plane is linear over the face, so
+	// its largest value over the part of the face above that triangle is at a corner of that part
+	// (the face clipped by the triangle, in the projection). A face crossing a triangle that
+	// holds neither its centroid nor a corner is not seen. A border too far is a Deviation
+	// (tighter tolerances, then a locked border fix it), a face too far a Distance failure (only
+	// a split fixes it). The distances measured are kept per input face (faceGap_; a removed
+	// border vertex's on the face of its ring edge) for the level's figure.
 	Failure distanceCheck(int32_t s, int32_t fb, int32_t fe, const Vec3 &N, size_t firstTri,
 	                      const Scratch &w, const ChunkOut &o)
 	{
