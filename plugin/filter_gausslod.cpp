@@ -286,8 +286,8 @@ void FilterGaussLodPlugin::initParameterSet(QAction *a, MeshModel &m, RichParame
 		    "normalLimit", 1.0f, "Normal deviation limit (x level bound)",
 		    "Guarantee on the result, as a multiple of each level's bound sqrt(2)*90/3^i deg: "
 		    "a superface whose re-triangulation leaves an input face farther than this from the "
-		    "output triangle covering it is retried with its border kept, then split into finer "
-		    "superfaces. 1 = the paper's bound (default); larger values simplify more; 0 = no "
+		    "output triangle covering it is retried with tighter borders, then with its border "
+		    "kept, then split into finer superfaces. 1 = the paper's bound (default); larger values simplify more; 0 = no "
 		    "limit (only flipped triangles are refused)."));
 		par.addParam(RichBool(
 		    "acrossCells", true, "Merge across cell borders",

@@ -51,7 +51,8 @@ struct Params {
 	double straightenTolerance = 0.0;
 	/// Normal-deviation limit, as a multiple of the level's bound sqrt(2)*90/3^i degrees: a
 	/// superface whose re-triangulation leaves an input face farther than this from the output
-	/// triangle covering it is retried with its border locked, then split into its finer children.
+	/// triangle covering it is retried with tighter straightening and merging (twice), then with its
+	/// border locked, then split into its finer children.
 	/// 0 = no limit (only flips beyond 90 degrees are refused).
 	double deviationFactor = 1.0;
 	/// Vicinity merge distance (paper 2.3.2), absolute: consecutive border vertices closer than this
