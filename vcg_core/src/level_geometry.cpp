@@ -473,27 +473,38 @@ private:
 	// ends are joined by a border edge (a one-edge chain, which cannot keep a vertex).
 	void separateParallelChains()
 	{
+		// the pieces grouped by (smaller, larger) end vertex, in that order, each group in
+		// pieces_ order: a bucket sort over the vertices for many pieces, a sort for the few of
+		// a patch round (where a pass over every vertex would cost more than the pieces)
 		auto lo = [&](size_t i) { return std::min(pieces_[i].a, pieces_[i].b); };
 		auto hi = [&](int32_t i) { return std::max(pieces_[size_t(i)].a, pieces_[size_t(i)].b); };
-		std::vector<int32_t> start, order;
-		bucketSort(pieces_.size(), t_.nV, lo, [&](int32_t i, int32_t j) { return hi(i) < hi(j); },
-		           start, order);
-		for (size_t v = 0; v < t_.nV; ++v) {
-			for (int32_t i = start[v]; i < start[v + 1];) {
-				int32_t j = i + 1;
-				const int32_t w = hi(order[size_t(i)]);
-				while (j < start[v + 1] && hi(order[size_t(j)]) == w)
-					++j;
-				const bool edge = borderEdge(int32_t(v), w);
-				if (j - i >= 2 || edge)
-					for (int32_t q = edge ? i : i + 1; q < j; ++q) {
-						Piece &pc = pieces_[size_t(order[size_t(q)])];
-						loadSequence(pc, scratch_[0]);
-						pc.minInterior = 1;
-						ensureInterior(pc, scratch_[0]);
-					}
-				i = j;
-			}
+		auto key = [&](int32_t i) { return uint64_t(uint32_t(lo(size_t(i)))) << 32 | uint32_t(hi(i)); };
+		std::vector<int32_t> order;
+		if (pieces_.size() >= t_.nV / 16) {
+			std::vector<int32_t> start;
+			bucketSort(pieces_.size(), t_.nV, lo, [&](int32_t i, int32_t j) { return hi(i) < hi(j); },
+			           start, order);
+		} else {
+			order.resize(pieces_.size());
+			for (size_t i = 0; i < order.size(); ++i)
+				order[i] = int32_t(i);
+			std::stable_sort(order.begin(), order.end(),
+			                 [&](int32_t i, int32_t j) { return key(i) < key(j); });
+		}
+		for (size_t i = 0; i < order.size();) {
+			size_t j = i + 1;
+			const uint64_t k = key(order[i]);
+			while (j < order.size() && key(order[j]) == k)
+				++j;
+			const bool edge = borderEdge(int32_t(k >> 32), int32_t(uint32_t(k)));
+			if (j - i >= 2 || edge)
+				for (size_t q = edge ? i : i + 1; q < j; ++q) {
+					Piece &pc = pieces_[size_t(order[q])];
+					loadSequence(pc, scratch_[0]);
+					pc.minInterior = 1;
+					ensureInterior(pc, scratch_[0]);
+				}
+			i = j;
 		}
 	}
 
@@ -1066,7 +1077,8 @@ private:
 		// meanwhile)
 		release(tris_), release(triSf_), release(triBorder_);
 		retriangulated_ = 0;
-		groupFaces();
+		if (!patch) // (a patch round's are set by applyFallbacks)
+			groupFaces();
 		findBorders(patch);
 		dirty_.assign(p_.count(), patch ? 0 : 1);
 		if (patch) { // split, failed, or around a changed vertex
@@ -1079,7 +1091,8 @@ private:
 					dirty_[size_t(p_.label[size_t(t_.vfFace[size_t(q)])])] = 1;
 		}
 		broken_.assign(p_.count(), 0);
-		visited_.assign(3 * t_.nF, 0);
+		if (visited_.size() != 3 * t_.nF) // (all zero between rounds: see below)
+			visited_.assign(3 * t_.nF, 0);
 		makeChunks();
 		// rings traced per chunk (a superface's walk only marks its own half-edges), then
 		// concatenated in superface order
@@ -1088,13 +1101,14 @@ private:
 			for (int32_t s = chunkStart_[c]; s < chunkStart_[c + 1]; ++s) {
 				const size_t ringsBefore = o.ringStart.size(), heBefore = o.ringHE.size();
 				if (dirty_[size_t(s)] && !traceRings(s, o.ringHE, o.ringStart)) {
+					for (size_t i = heBefore; i < o.ringHE.size(); ++i)
+						visited_[size_t(o.ringHE[i])] = 0;
 					o.ringStart.resize(ringsBefore), o.ringHE.resize(heBefore);
 					broken_[size_t(s)] = 1;
 				}
 				o.sfRings.push_back(int32_t(o.ringStart.size() - ringsBefore));
 			}
 		});
-		release(visited_); // (only the tracing needs it)
 		size_t nRings = 0, nHE = 0;
 		for (const ChunkOut &o : chunks_)
 			nRings += o.ringStart.size(), nHE += o.ringHE.size();
@@ -1112,6 +1126,8 @@ private:
 			release(o.ringHE), release(o.ringStart), release(o.sfRings);
 		}
 		ringStart_.push_back(int32_t(ringHE_.size()));
+		for (const int32_t h : ringHE_) // (every half-edge a walk marked: cleared for the next round)
+			visited_[size_t(h)] = 0;
 		collectAndSimplifyPieces(patch);
 		// (a patch round separates the recomputed pieces among themselves; one that straightens
 		// onto an unchanged chain is caught by checkEdges and falls back)
@@ -1163,7 +1179,7 @@ private:
 				retriangulated_ += o.retriangulated;
 				ChunkOut().swap(o);
 			}
-			release(prevCache_), release(prevLabel_);
+			release(prevCache_), release(prevOf_);
 			out_.stats.secondsTriangulation += clock_.lap();
 			return;
 		}
@@ -1190,7 +1206,7 @@ private:
 			retriangulated_ += o.retriangulated;
 			ChunkOut().swap(o);
 		}
-		release(prevCache_), release(prevLabel_), release(prevTris_), release(prevTriBorder_);
+		release(prevCache_), release(prevOf_), release(prevTris_), release(prevTriBorder_);
 		out_.stats.secondsTriangulation += clock_.lap();
 		if (failed_.empty())
 			checkEdges();
@@ -1205,7 +1221,7 @@ private:
 		Cached &c = cache_[size_t(s)];
 		if (!dirty_[size_t(s)]) { // unchanged since the previous round: its range there (the
 			// triangles are copied with the concatenation, its faces keep their deviations)
-			c = prevCache_[size_t(prevLabel_[size_t(sfFace_[size_t(sfStart_[size_t(s)])])])];
+			c = prevCache_[size_t(prevOf_[size_t(s)])];
 			return;
 		}
 		c.faceCount = sfStart_[size_t(s) + 1] - sfStart_[size_t(s)];
@@ -1232,7 +1248,6 @@ private:
 	void keepForReuse()
 	{
 		prevCache_.swap(cache_);
-		prevLabel_ = p_.label;
 		prevTris_.swap(tris_);
 		prevTriBorder_.swap(triBorder_);
 	}
@@ -1248,7 +1263,8 @@ private:
 		bool ok = false, retriangulated = false;
 	};
 	std::vector<Cached> prevCache_, cache_;
-	std::vector<int32_t> prevLabel_, prevTris_;
+	std::vector<int32_t> prevOf_; // per superface: its (or its parent's) id in the previous round
+	std::vector<int32_t> prevTris_;
 	std::vector<uint8_t> prevTriBorder_;
 
 	static uint64_t directedEdge(int32_t a, int32_t b)
@@ -1266,7 +1282,7 @@ private:
 	{
 		if (prevCache_.empty())
 			return false;
-		const int32_t ps = prevLabel_[size_t(sfFace_[size_t(sfStart_[size_t(s)])])];
+		const int32_t ps = prevOf_[size_t(s)];
 		const Cached &c = prevCache_[size_t(ps)];
 		if (!c.ok || c.faceCount != now.faceCount) // (same count, same faces: see above)
 			return false;
@@ -1369,6 +1385,7 @@ private:
 		const size_t base = p_.count();
 		std::vector<int32_t> childMap; // finer label -> new label (per origin level)
 		std::vector<int32_t> touched;
+		std::vector<int32_t> parentOf; // new superface base + i -> the superface split into it
 		for (size_t s = 0; s < base; ++s) {
 			if (!split[s])
 				continue;
@@ -1408,12 +1425,14 @@ private:
 						touched.push_back(child);
 						p_.cell.push_back(cell);
 						p_.origin.push_back(origin);
+						parentOf.push_back(int32_t(s));
 					}
 				}
 				if (id < 0) {
 					id = int32_t(p_.cell.size());
 					p_.cell.push_back(cell);
 					p_.origin.push_back(origin);
+					parentOf.push_back(int32_t(s));
 				}
 				p_.label[size_t(f)] = id;
 				relabeled_.push_back(f);
@@ -1422,7 +1441,54 @@ private:
 				childMap[size_t(c)] = -1;
 			touched.clear();
 		}
-		canonicalize(p_);
+		// canonical ids (by first face, as canonicalize numbers them), with each superface's id
+		// in the round that failed, or the id of the superface split into it (prevOf_)
+		std::vector<int32_t> remap(p_.count(), -1);
+		std::vector<CellKey> cell;
+		std::vector<int8_t> origin;
+		cell.reserve(p_.count()), origin.reserve(p_.count());
+		prevOf_.clear(), prevOf_.reserve(p_.count());
+		for (int32_t &l : p_.label) {
+			int32_t &r = remap[size_t(l)];
+			if (r < 0) {
+				r = int32_t(cell.size());
+				cell.push_back(p_.cell[size_t(l)]);
+				origin.push_back(p_.origin[size_t(l)]);
+				prevOf_.push_back(size_t(l) < base ? l : parentOf[size_t(l) - base]);
+			}
+			l = r;
+		}
+		p_.cell.swap(cell), p_.origin.swap(origin);
+		// the next round's faces per superface (what groupFaces gives): a superface not split
+		// has the faces of its range in the round that failed; the children of a split one
+		// take theirs from its range (ascending, as there)
+		const size_t ns = p_.count();
+		std::vector<int32_t> start(ns + 1, 0), face(t_.nF);
+		for (size_t n = 0; n < ns; ++n) {
+			const int32_t o = prevOf_[n];
+			if (!split[size_t(o)])
+				start[n + 1] = sfStart_[size_t(o) + 1] - sfStart_[size_t(o)];
+		}
+		for (size_t s = 0; s < base; ++s)
+			if (split[s])
+				for (int32_t i = sfStart_[s]; i < sfStart_[s + 1]; ++i)
+					++start[size_t(p_.label[size_t(sfFace_[size_t(i)])]) + 1];
+		for (size_t n = 0; n < ns; ++n)
+			start[n + 1] += start[n];
+		std::vector<int32_t> fill(start.begin(), start.end() - 1);
+		for (size_t n = 0; n < ns; ++n) {
+			const int32_t o = prevOf_[n];
+			if (!split[size_t(o)])
+				std::copy(sfFace_.begin() + sfStart_[size_t(o)], sfFace_.begin() + sfStart_[size_t(o) + 1],
+				          face.begin() + start[n]);
+		}
+		for (size_t s = 0; s < base; ++s)
+			if (split[s])
+				for (int32_t i = sfStart_[s]; i < sfStart_[s + 1]; ++i) {
+					const int32_t f = sfFace_[size_t(i)];
+					face[size_t(fill[size_t(p_.label[size_t(f)])]++)] = f;
+				}
+		sfStart_.swap(start), sfFace_.swap(face);
 	}
 
 	// Frees what only the rounds needed, before the level's output is allocated (the level's
@@ -1436,7 +1502,7 @@ private:
 		release(dirty_), release(ringHE_), release(ringStart_), release(sfRingStart_);
 		release(visited_), release(broken_), release(pieces_), release(failed_);
 		release(scratch_), release(chunkStart_), release(chunks_);
-		release(prevCache_), release(cache_), release(prevLabel_), release(prevTris_);
+		release(prevCache_), release(cache_), release(prevOf_), release(prevTris_);
 		release(prevTriBorder_);
 	}
 
