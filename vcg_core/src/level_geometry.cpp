@@ -1179,7 +1179,7 @@ private:
 				retriangulated_ += o.retriangulated;
 				ChunkOut().swap(o);
 			}
-			release(prevCache_), release(prevOf_);
+			prevCache_.clear(), prevOf_.clear(); // (their memory serves the next rounds)
 			out_.stats.secondsTriangulation += clock_.lap();
 			return;
 		}
@@ -1206,7 +1206,8 @@ private:
 			retriangulated_ += o.retriangulated;
 			ChunkOut().swap(o);
 		}
-		release(prevCache_), release(prevOf_), release(prevTris_), release(prevTriBorder_);
+		prevCache_.clear(), prevOf_.clear();
+		release(prevTris_), release(prevTriBorder_);
 		out_.stats.secondsTriangulation += clock_.lap();
 		if (failed_.empty())
 			checkEdges();
@@ -1264,6 +1265,11 @@ private:
 	};
 	std::vector<Cached> prevCache_, cache_;
 	std::vector<int32_t> prevOf_; // per superface: its (or its parent's) id in the previous round
+	// applyFallbacks' arrays, kept for the next rounds
+	std::vector<uint8_t> split_;
+	std::vector<int32_t> remap_, spareStart_, spareFace_;
+	std::vector<CellKey> spareCell_;
+	std::vector<int8_t> spareOrigin_;
 	std::vector<int32_t> prevTris_;
 	std::vector<uint8_t> prevTriBorder_;
 
@@ -1336,7 +1342,8 @@ private:
 	void applyFallbacks()
 	{
 		// sfStart_/sfFace_ are those of the round that just failed: labels have not changed yet
-		std::vector<uint8_t> split(p_.count(), 0);
+		std::vector<uint8_t> &split = split_;
+		split.assign(p_.count(), 0);
 		relabeled_.clear(), failedFace_.clear(), lockedNow_.clear(), retightened_.clear();
 		auto lock = [&](int32_t v) {
 			if (!extraLock_[size_t(v)]) {
@@ -1443,11 +1450,14 @@ private:
 		}
 		// canonical ids (by first face, as canonicalize numbers them), with each superface's id
 		// in the round that failed, or the id of the superface split into it (prevOf_)
-		std::vector<int32_t> remap(p_.count(), -1);
-		std::vector<CellKey> cell;
-		std::vector<int8_t> origin;
-		cell.reserve(p_.count()), origin.reserve(p_.count());
-		prevOf_.clear(), prevOf_.reserve(p_.count());
+		// (arrays of the previous rounds are reused: fresh ones of a few MB each round cost more
+		// in page faults than the work)
+		std::vector<int32_t> &remap = remap_;
+		std::vector<CellKey> &cell = spareCell_;
+		std::vector<int8_t> &origin = spareOrigin_;
+		remap.assign(p_.count(), -1);
+		cell.clear(), origin.clear(), prevOf_.clear();
+		cell.reserve(p_.count()), origin.reserve(p_.count()), prevOf_.reserve(p_.count());
 		for (int32_t &l : p_.label) {
 			int32_t &r = remap[size_t(l)];
 			if (r < 0) {
@@ -1463,7 +1473,8 @@ private:
 		// has the faces of its range in the round that failed; the children of a split one
 		// take theirs from its range (ascending, as there)
 		const size_t ns = p_.count();
-		std::vector<int32_t> start(ns + 1, 0), face(t_.nF);
+		std::vector<int32_t> &start = spareStart_, &face = spareFace_;
+		start.assign(ns + 1, 0), face.resize(t_.nF);
 		for (size_t n = 0; n < ns; ++n) {
 			const int32_t o = prevOf_[n];
 			if (!split[size_t(o)])
@@ -1475,7 +1486,8 @@ private:
 					++start[size_t(p_.label[size_t(sfFace_[size_t(i)])]) + 1];
 		for (size_t n = 0; n < ns; ++n)
 			start[n + 1] += start[n];
-		std::vector<int32_t> fill(start.begin(), start.end() - 1);
+		std::vector<int32_t> &fill = remap; // (done with)
+		fill.assign(start.begin(), start.end() - 1);
 		for (size_t n = 0; n < ns; ++n) {
 			const int32_t o = prevOf_[n];
 			if (!split[size_t(o)])
@@ -1503,7 +1515,8 @@ private:
 		release(visited_), release(broken_), release(pieces_), release(failed_);
 		release(scratch_), release(chunkStart_), release(chunks_);
 		release(prevCache_), release(cache_), release(prevOf_), release(prevTris_);
-		release(prevTriBorder_);
+		release(prevTriBorder_), release(split_), release(remap_), release(spareStart_);
+		release(spareFace_), release(spareCell_), release(spareOrigin_);
 	}
 
 	// ---------------------------------------------------------------------------- output
