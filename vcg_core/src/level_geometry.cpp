@@ -1448,58 +1448,84 @@ private:
 				childMap[size_t(c)] = -1;
 			touched.clear();
 		}
-		// canonical ids (by first face, as canonicalize numbers them), with each superface's id
-		// in the round that failed, or the id of the superface split into it (prevOf_)
-		// (arrays of the previous rounds are reused: fresh ones of a few MB each round cost more
-		// in page faults than the work)
-		std::vector<int32_t> &remap = remap_;
+		// Canonical ids (by first face, as canonicalize numbers them: a superface not split keeps
+		// its first face, a new one's is the first of its faces in its parent's ascending range),
+		// each superface's id in the round that failed or the id of the superface split into it
+		// (prevOf_), and the next round's faces per superface (what groupFaces gives): runs of
+		// superfaces not split keep their block of faces, the children of a split superface take
+		// theirs from its range. (The arrays of earlier rounds are reused: fresh ones of a few MB
+		// each round cost more in page faults than the work.)
+		const size_t temps = p_.count() - base;
+		std::vector<int32_t> childSize(temps, 0); // (then: where its next face goes)
+		std::vector<std::pair<int32_t, int32_t>> firsts; // (first face, new superface)
+		size_t nSplit = 0;
+		for (size_t s = 0; s < base; ++s) {
+			if (!split[s])
+				continue;
+			++nSplit;
+			for (int32_t i = sfStart_[s]; i < sfStart_[s + 1]; ++i) {
+				const int32_t f = sfFace_[size_t(i)];
+				const size_t c = size_t(p_.label[size_t(f)]) - base;
+				if (childSize[c]++ == 0)
+					firsts.emplace_back(f, int32_t(base + c));
+			}
+		}
+		std::sort(firsts.begin(), firsts.end());
+		const size_t ns = base - nSplit + temps;
+		std::vector<int32_t> &remap = remap_, &start = spareStart_, &face = spareFace_;
 		std::vector<CellKey> &cell = spareCell_;
 		std::vector<int8_t> &origin = spareOrigin_;
 		remap.assign(p_.count(), -1);
 		cell.clear(), origin.clear(), prevOf_.clear();
-		cell.reserve(p_.count()), origin.reserve(p_.count()), prevOf_.reserve(p_.count());
-		for (int32_t &l : p_.label) {
-			int32_t &r = remap[size_t(l)];
-			if (r < 0) {
-				r = int32_t(cell.size());
-				cell.push_back(p_.cell[size_t(l)]);
-				origin.push_back(p_.origin[size_t(l)]);
-				prevOf_.push_back(size_t(l) < base ? l : parentOf[size_t(l) - base]);
+		cell.reserve(ns), origin.reserve(ns), prevOf_.reserve(ns);
+		start.resize(ns + 1), face.resize(t_.nF);
+		start[0] = 0;
+		auto add = [&](int32_t old, int32_t prev, int32_t faces) {
+			const int32_t n = int32_t(cell.size());
+			remap[size_t(old)] = n;
+			cell.push_back(p_.cell[size_t(old)]);
+			origin.push_back(p_.origin[size_t(old)]);
+			prevOf_.push_back(prev);
+			start[size_t(n) + 1] = start[size_t(n)] + faces;
+		};
+		size_t ci = 0;
+		auto addChildrenBefore = [&](int32_t face) {
+			for (; ci < firsts.size() && firsts[ci].first < face; ++ci) {
+				const int32_t c = firsts[ci].second;
+				add(c, parentOf[size_t(c) - base], childSize[size_t(c) - base]);
 			}
-			l = r;
+		};
+		for (size_t o = 0; o < base; ++o)
+			if (!split[o]) {
+				addChildrenBefore(sfFace_[size_t(sfStart_[o])]);
+				add(int32_t(o), int32_t(o), sfStart_[o + 1] - sfStart_[o]);
+			}
+		addChildrenBefore(INT32_MAX);
+		for (size_t o = 0; o < base;) { // runs of consecutive superfaces not split
+			if (split[o]) {
+				++o;
+				continue;
+			}
+			size_t e = o + 1;
+			while (e < base && !split[e] && remap[e] == remap[e - 1] + 1)
+				++e;
+			std::copy(sfFace_.begin() + sfStart_[o], sfFace_.begin() + sfStart_[e],
+			          face.begin() + start[size_t(remap[o])]);
+			o = e;
 		}
-		p_.cell.swap(cell), p_.origin.swap(origin);
-		// the next round's faces per superface (what groupFaces gives): a superface not split
-		// has the faces of its range in the round that failed; the children of a split one
-		// take theirs from its range (ascending, as there)
-		const size_t ns = p_.count();
-		std::vector<int32_t> &start = spareStart_, &face = spareFace_;
-		start.assign(ns + 1, 0), face.resize(t_.nF);
-		for (size_t n = 0; n < ns; ++n) {
-			const int32_t o = prevOf_[n];
-			if (!split[size_t(o)])
-				start[n + 1] = sfStart_[size_t(o) + 1] - sfStart_[size_t(o)];
-		}
-		for (size_t s = 0; s < base; ++s)
-			if (split[s])
-				for (int32_t i = sfStart_[s]; i < sfStart_[s + 1]; ++i)
-					++start[size_t(p_.label[size_t(sfFace_[size_t(i)])]) + 1];
-		for (size_t n = 0; n < ns; ++n)
-			start[n + 1] += start[n];
-		std::vector<int32_t> &fill = remap; // (done with)
-		fill.assign(start.begin(), start.end() - 1);
-		for (size_t n = 0; n < ns; ++n) {
-			const int32_t o = prevOf_[n];
-			if (!split[size_t(o)])
-				std::copy(sfFace_.begin() + sfStart_[size_t(o)], sfFace_.begin() + sfStart_[size_t(o) + 1],
-				          face.begin() + start[n]);
-		}
+		for (size_t c = 0; c < temps; ++c)
+			childSize[c] = start[size_t(remap[base + c])];
 		for (size_t s = 0; s < base; ++s)
 			if (split[s])
 				for (int32_t i = sfStart_[s]; i < sfStart_[s + 1]; ++i) {
 					const int32_t f = sfFace_[size_t(i)];
-					face[size_t(fill[size_t(p_.label[size_t(f)])]++)] = f;
+					face[size_t(childSize[size_t(p_.label[size_t(f)]) - base]++)] = f;
 				}
+		parallelRanges(t_.nF, threads_, [&](size_t b, size_t e, size_t) {
+			for (size_t f = b; f < e; ++f)
+				p_.label[f] = remap[size_t(p_.label[f])];
+		});
+		p_.cell.swap(cell), p_.origin.swap(origin);
 		sfStart_.swap(start), sfFace_.swap(face);
 	}
 
