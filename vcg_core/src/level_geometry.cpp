@@ -1470,6 +1470,12 @@ private:
 					firsts.emplace_back(f, int32_t(base + c));
 			}
 		}
+		if (nSplit == 0) { // (labels, cells, origins and face lists stay)
+			prevOf_.resize(base);
+			for (size_t o = 0; o < base; ++o)
+				prevOf_[o] = int32_t(o);
+			return;
+		}
 		std::sort(firsts.begin(), firsts.end());
 		const size_t ns = base - nSplit + temps;
 		std::vector<int32_t> &remap = remap_, &start = spareStart_, &face = spareFace_;
