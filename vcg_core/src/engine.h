@@ -100,6 +100,10 @@ struct FaceGrid {
 	uint64_t mask = 0;                ///< buckets - 1 (a power of two)
 	std::vector<int32_t> start, face; ///< bucket -> faces (CSR)
 	std::vector<int32_t> big;         ///< faces too large to list per cell: every query sees them
+	/// Per bucket, a cone around its faces' normals: an axis a (int8 x, y, z in bits 0-23) and a
+	/// bound s (bits 24-31, /254) such that every face normal n listed in the bucket has
+	/// n . t >= 0 for any unit t with (a / |a|) . t >= s / 254 (s = 255: no such t).
+	std::vector<uint32_t> cone;
 
 	static uint64_t bucketOf(int64_t x, int64_t y, int64_t z, uint64_t mask)
 	{
@@ -113,6 +117,14 @@ struct FaceGrid {
 	template <class Fn>
 	void forBox(const Vec3 &a, const Vec3 &b, Fn fn) const
 	{
+		forBoxFacingAway(a, b, nullptr, fn);
+	}
+
+	/// forBox, but with a unit direction `t`: only the buckets that may hold a face whose normal
+	/// n has n . t < 0 (by their cone) are listed (the big faces all are).
+	template <class Fn>
+	void forBoxFacingAway(const Vec3 &a, const Vec3 &b, const Vec3 *t, Fn fn) const
+	{
 		for (const int32_t f : big)
 			fn(f);
 		if (start.size() < 2)
@@ -123,9 +135,27 @@ struct FaceGrid {
 			for (int64_t y = y0; y <= y1; ++y)
 				for (int64_t x = x0; x <= x1; ++x) {
 					const uint64_t c = bucketOf(x, y, z, mask);
+					if (t && allFacing(cone[c], *t))
+						continue;
 					for (int32_t i = start[c]; i < start[c + 1]; ++i)
 						fn(face[size_t(i)]);
 				}
+	}
+
+	static uint32_t packCone(int ax, int ay, int az, int s)
+	{
+		return uint32_t(uint8_t(int8_t(ax))) | uint32_t(uint8_t(int8_t(ay))) << 8 |
+		       uint32_t(uint8_t(int8_t(az))) << 16 | uint32_t(s) << 24;
+	}
+	/// Does every normal of a bucket with this cone face t (n . t >= 0)?
+	static bool allFacing(uint32_t cone, const Vec3 &t)
+	{
+		const uint32_t s = cone >> 24;
+		if (s >= 255)
+			return false;
+		const double ax = int8_t(cone & 0xff), ay = int8_t((cone >> 8) & 0xff), az = int8_t((cone >> 16) & 0xff);
+		const double d = ax * t[0] + ay * t[1] + az * t[2], bound = double(s) / 254.0;
+		return d > 0 && d * d >= bound * bound * (ax * ax + ay * ay + az * az);
 	}
 };
 

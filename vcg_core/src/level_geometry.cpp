@@ -174,7 +174,9 @@ private:
 
 	// per round
 	std::vector<int32_t> sfStart_, sfFace_;   // superface -> faces (CSR)
-	std::vector<uint8_t> border_;             // per half-edge
+	std::vector<uint8_t> border_;             // per half-edge: 1 = border (| kVisited while the
+	                                          // rings are traced)
+	static constexpr uint8_t kVisited = 2;
 	std::vector<int32_t> degree_;             // border edges per vertex
 	std::vector<uint8_t> junction_, keep_, extraLock_;
 	std::vector<uint8_t> tolStep_;            // per input face: its superface's border tolerances
@@ -188,7 +190,7 @@ private:
 	std::vector<int32_t> lockedNow_;          // vertices the last fallbacks locked
 	std::vector<uint8_t> dirty_;              // per superface: rebuilt this round
 	std::vector<int32_t> ringHE_, ringStart_, sfRingStart_;
-	std::vector<uint8_t> visited_, broken_;
+	std::vector<uint8_t> broken_;
 	std::vector<Piece> pieces_;
 	std::vector<std::pair<int32_t, Failure>> failed_;
 	// output of a round
@@ -347,19 +349,19 @@ private:
 			const int32_t f = sfFace_[size_t(i)];
 			for (int k = 0; k < 3; ++k) {
 				const int32_t h0 = 3 * f + k;
-				if (!border_[size_t(h0)] || visited_[size_t(h0)])
+				if (border_[size_t(h0)] != 1) // (not a border, or visited)
 					continue;
 				ringStart.push_back(int32_t(ringHE.size()));
 				int32_t h = h0;
 				do {
-					visited_[size_t(h)] = 1;
+					border_[size_t(h)] |= kVisited;
 					ringHE.push_back(h);
 					const int32_t b = t_.heTo(h);
 					const int32_t guard = t_.vfStart[size_t(b) + 1] - t_.vfStart[size_t(b)] + 1;
 					int32_t e = heNext(h), steps = 0;
 					while (!border_[size_t(e)] && steps++ <= guard)
 						e = heNext(t_.twin[size_t(e)]);
-					if (!border_[size_t(e)] || visited_[size_t(e)] != (e == h0))
+					if (!border_[size_t(e)] || bool(border_[size_t(e)] & kVisited) != (e == h0))
 						return false; // not a proper ring (cannot happen on sane adjacency)
 					h = e;
 				} while (h != h0);
@@ -961,7 +963,7 @@ private:
 			// nearest face facing away (normals first: distances only for those)
 			double away = r * r * (1 - 1e-9);
 			bool anyAway = false;
-			t_.grid.forBox(c - Vec3(r, r, r), c + Vec3(r, r, r), [&](int32_t g) {
+			t_.grid.forBoxFacingAway(c - Vec3(r, r, r), c + Vec3(r, r, r), &tn[k], [&](int32_t g) {
 				if (t_.faceNormal[size_t(g)].dot(tn[k]) < 0) {
 					const double d2 = faceDist2(c, g);
 					if (d2 < away)
@@ -1091,18 +1093,16 @@ private:
 					dirty_[size_t(p_.label[size_t(t_.vfFace[size_t(q)])])] = 1;
 		}
 		broken_.assign(p_.count(), 0);
-		if (visited_.size() != 3 * t_.nF) // (all zero between rounds: see below)
-			visited_.assign(3 * t_.nF, 0);
 		makeChunks();
-		// rings traced per chunk (a superface's walk only marks its own half-edges), then
-		// concatenated in superface order
+		// rings traced per chunk (a superface's walk only marks its own half-edges visited, and
+		// reads only its own), then concatenated in superface order
 		forEachChunk([&](size_t c, Scratch &) {
 			ChunkOut &o = chunks_[c];
 			for (int32_t s = chunkStart_[c]; s < chunkStart_[c + 1]; ++s) {
 				const size_t ringsBefore = o.ringStart.size(), heBefore = o.ringHE.size();
 				if (dirty_[size_t(s)] && !traceRings(s, o.ringHE, o.ringStart)) {
 					for (size_t i = heBefore; i < o.ringHE.size(); ++i)
-						visited_[size_t(o.ringHE[i])] = 0;
+						border_[size_t(o.ringHE[i])] &= uint8_t(~kVisited);
 					o.ringStart.resize(ringsBefore), o.ringHE.resize(heBefore);
 					broken_[size_t(s)] = 1;
 				}
@@ -1126,8 +1126,8 @@ private:
 			release(o.ringHE), release(o.ringStart), release(o.sfRings);
 		}
 		ringStart_.push_back(int32_t(ringHE_.size()));
-		for (const int32_t h : ringHE_) // (every half-edge a walk marked: cleared for the next round)
-			visited_[size_t(h)] = 0;
+		for (const int32_t h : ringHE_) // (every half-edge a walk marked)
+			border_[size_t(h)] &= uint8_t(~kVisited);
 		collectAndSimplifyPieces(patch);
 		// (a patch round separates the recomputed pieces among themselves; one that straightens
 		// onto an unchanged chain is caught by checkEdges and falls back)
@@ -1179,12 +1179,15 @@ private:
 				retriangulated_ += o.retriangulated;
 				ChunkOut().swap(o);
 			}
-			prevCache_.clear(), prevOf_.clear(); // (their memory serves the next rounds)
+			release(prevCache_), prevOf_.clear(); // (the ids' memory serves the next rounds)
 			out_.stats.secondsTriangulation += clock_.lap();
 			return;
 		}
 		// concatenate in superface order (offsets of rebuilt superfaces in cache_ were chunk-
-		// relative), freeing each chunk once appended
+		// relative), freeing each chunk once appended; the fallbacks' arrays go first (this is
+		// the level's peak, and it is usually its last round)
+		release(split_), release(remap_), release(spareStart_), release(spareFace_);
+		release(spareCell_), release(spareOrigin_);
 		const size_t room = failures ? nt + nt / 4 : nt;
 		tris_.reserve(3 * room), triSf_.reserve(nt), triBorder_.reserve(room);
 		for (size_t c = 0; c < chunks_.size(); ++c) {
@@ -1206,7 +1209,7 @@ private:
 			retriangulated_ += o.retriangulated;
 			ChunkOut().swap(o);
 		}
-		prevCache_.clear(), prevOf_.clear();
+		release(prevCache_), prevOf_.clear();
 		release(prevTris_), release(prevTriBorder_);
 		out_.stats.secondsTriangulation += clock_.lap();
 		if (failed_.empty())
@@ -1544,7 +1547,7 @@ private:
 		release(changedList_), release(relabeled_), release(failedFace_), release(lockedNow_);
 		release(tolStep_), release(retightened_);
 		release(dirty_), release(ringHE_), release(ringStart_), release(sfRingStart_);
-		release(visited_), release(broken_), release(pieces_), release(failed_);
+		release(broken_), release(pieces_), release(failed_);
 		release(scratch_), release(chunkStart_), release(chunks_);
 		release(prevCache_), release(cache_), release(prevOf_), release(prevTris_);
 		release(prevTriBorder_), release(split_), release(remap_), release(spareStart_);

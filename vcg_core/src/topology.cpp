@@ -252,7 +252,7 @@ void buildFaceGrid(Topology &t)
 	constexpr double kBigCells = 64;
 	FaceGrid &g = t.grid;
 	g.start.assign(1, 0);
-	g.face.clear(), g.big.clear();
+	g.face.clear(), g.big.clear(), g.cone.clear();
 	double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL};
 	std::vector<double> extent;
 	auto box = [&](size_t f, double a[3], double b[3]) {
@@ -337,6 +337,34 @@ void buildFaceGrid(Topology &t)
 	for (size_t f = 0; f < t.nF; ++f)
 		if (t.faceValid[f])
 			forCells(f, [&](uint64_t c) { g.face[size_t(fill[c]++)] = int32_t(f); });
+	std::vector<int32_t>().swap(fill);
+	// each bucket's normal cone: the mean normal, rounded to int8 (the bound is measured from
+	// the rounded axis), and s / 254 >= sin of the widest angle from it, rounded up with a
+	// margin of one step (far above the rounding of the dot products that use it)
+	g.cone.resize(buckets);
+	for (size_t c = 0; c < buckets; ++c) {
+		Vec3 sum(0, 0, 0);
+		for (int32_t i = g.start[c]; i < g.start[c + 1]; ++i)
+			sum += t.faceNormal[size_t(g.face[size_t(i)])];
+		const double len = sum.Norm();
+		if (!(len > 0)) {
+			g.cone[c] = FaceGrid::packCone(0, 0, 0, 255);
+			continue;
+		}
+		int q[3];
+		for (int k = 0; k < 3; ++k)
+			q[k] = int(std::lround(127.0 * sum[k] / len));
+		const Vec3 axis = Vec3(q[0], q[1], q[2]).Normalize();
+		double minCos = 1;
+		for (int32_t i = g.start[c]; i < g.start[c + 1]; ++i)
+			minCos = std::min(minCos, t.faceNormal[size_t(g.face[size_t(i)])].dot(axis));
+		int s = 255;
+		if (minCos > 0) {
+			const double sine = std::sqrt(std::max(0.0, 1.0 - minCos * minCos));
+			s = std::min(255, int(std::ceil(sine * 254.0)) + 1);
+		}
+		g.cone[c] = FaceGrid::packCone(q[0], q[1], q[2], s);
+	}
 }
 
 void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &t, size_t threads,
