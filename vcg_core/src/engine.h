@@ -281,8 +281,8 @@ void canonicalize(Partition &p);
 /// superfaces that cannot be re-triangulated validly into their finer children (`finer[k]` is the
 /// final partition of level k, for k > p.level) and rebuilds until the level is valid.
 /// Stops early, leaving `out` without a mesh and out.stats.faces > faceLimit, once a round's valid
-/// triangles plus one per superface still to split exceed `faceLimit` (the caller then keeps the
-/// finer level, which has that many faces).
+/// triangles plus the triangles of the failed superfaces' attempts (at least one each) exceed
+/// `faceLimit` (the caller then keeps the finer level, which has that many faces).
 void buildLevelGeometry(const Topology &topo, const Params &params,
                         const std::vector<Partition> &finer, Partition &p, LevelMesh &out,
                         size_t faceLimit);

@@ -81,10 +81,12 @@ struct ChunkOut {
 	std::vector<Piece> straight; ///< pieces left straight (see separateParallelChains)
 	std::vector<int32_t> ringHE, ringStart, sfRings; ///< traced rings (until concatenated)
 	size_t retriangulated = 0;
+	size_t failedTris = 0; ///< triangles the failed superfaces had made (at least 1 each)
 	void swap(ChunkOut &o)
 	{
 		tris.swap(o.tris), triBorder.swap(o.triBorder), failed.swap(o.failed);
 		straight.swap(o.straight), std::swap(retriangulated, o.retriangulated);
+		std::swap(failedTris, o.failedTris);
 		ringHE.swap(o.ringHE), ringStart.swap(o.ringStart), sfRings.swap(o.sfRings);
 	}
 	void clear()
@@ -92,7 +94,7 @@ struct ChunkOut {
 		tris.clear(), triBorder.clear();
 		failed.clear(), straight.clear();
 		ringHE.clear(), ringStart.clear(), sfRings.clear();
-		retriangulated = 0;
+		retriangulated = 0, failedTris = 0;
 	}
 };
 
@@ -144,10 +146,12 @@ public:
 			if (failed_.empty() || round >= kMaxRounds)
 				break;
 			// Splitting a superface adds faces (its pieces have the split chains on their borders)
-			// and so does a tighter re-simplification: a level already over its limit this way is
-			// abandoned. (Later rounds can lose a few faces when a chain's new junctions make it
-			// simplify differently: 0.3 % was the most seen; the limit is the finer level's count.)
-			const size_t atLeast = liveTris_ + failed_.size();
+			// and so does a tighter re-simplification or a locked border: a failed superface will
+			// end with at least the triangles its failed attempt made, and a level already over its
+			// limit this way is abandoned. (Later rounds can lose a few faces when a chain's new
+			// junctions make it simplify differently: 0.3 % was the most seen; the limit is the
+			// finer level's count.)
+			const size_t atLeast = liveTris_ + failedTris_;
 			if (atLeast > faceLimit_) {
 				out_.stats.faces = atLeast;
 				out_.stats.rounds = round + 1;
@@ -193,6 +197,8 @@ private:
 	std::vector<uint8_t> broken_;
 	std::vector<Piece> pieces_;
 	std::vector<std::pair<int32_t, Failure>> failed_;
+	size_t failedTris_ = 0; // triangles the failed superfaces had made before failing, at least 1
+	                        // each (those the whole-level check failed: 1, theirs are live)
 	// output of a round
 	std::vector<int32_t> tris_, triSf_; // (after a patch round with failures: see buildOnce)
 	size_t liveTris_ = 0;               // triangles of the round's superfaces
@@ -1064,7 +1070,7 @@ private:
 		}
 		for (size_t s = 0; s < bad.size(); ++s)
 			if (bad[s])
-				failed_.emplace_back(int32_t(s), Failure::Ring);
+				failed_.emplace_back(int32_t(s), Failure::Ring), ++failedTris_;
 	}
 
 	// ---------------------------------------------------------------------------- one round
@@ -1074,7 +1080,7 @@ private:
 	// the previous round (borders only get added by fallbacks), so its triangles are copied.
 	void buildOnce(bool patch)
 	{
-		failed_.clear();
+		failed_.clear(), failedTris_ = 0;
 		// (freed, not cleared: they are rebuilt from the chunks, which hold this round's triangles
 		// meanwhile)
 		release(tris_), release(triSf_), release(triBorder_);
@@ -1175,7 +1181,7 @@ private:
 					                  o.triBorder.begin() + cc.triEnd);
 					cc.triEnd = begin + (cc.triEnd - cc.triBegin), cc.triBegin = begin;
 				}
-				failed_.insert(failed_.end(), o.failed.begin(), o.failed.end());
+				failed_.insert(failed_.end(), o.failed.begin(), o.failed.end()), failedTris_ += o.failedTris;
 				retriangulated_ += o.retriangulated;
 				ChunkOut().swap(o);
 			}
@@ -1205,7 +1211,7 @@ private:
 				if (!dirty_[size_t(sf)])
 					retriangulated_ += cc.retriangulated;
 			}
-			failed_.insert(failed_.end(), o.failed.begin(), o.failed.end());
+			failed_.insert(failed_.end(), o.failed.begin(), o.failed.end()), failedTris_ += o.failedTris;
 			retriangulated_ += o.retriangulated;
 			ChunkOut().swap(o);
 		}
@@ -1239,6 +1245,7 @@ private:
 			f = broken_[size_t(s)] ? Failure::Fold : retriangulate(s, w, o);
 		}
 		if (f != Failure::None) {
+			o.failedTris += std::max<size_t>(1, o.triBorder.size() - before);
 			truncate(o, before);
 			o.failed.emplace_back(s, f);
 		}
