@@ -149,26 +149,40 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 		return;
 	const double limit = 0.5 * boundDeg * 3.14159265358979323846 / 180.0; // cone half-angle
 	auto angle = [](double cosine) { return std::acos(std::max(-1.0, std::min(1.0, cosine))); };
-	// per superface: area, area-weighted mean normal, and the cone around it holding its normals
-	std::vector<double> area(n, 0.0), radius(n, 0.0);
-	std::vector<Vec3> mean(n, Vec3(0, 0, 0));
+	// One node per superface for the greedy union below (one cache line each: the loop is bound
+	// by random memory accesses), filled first with the superface's area, area-weighted mean
+	// normal and the cone around it holding its normals (its radius).
+	struct Node {
+		Vec3 mean;
+		double area, radius;
+		double cosRoom; ///< cos(limit - radius): how close the merged mean must stay to mean
+		float seedArea; ///< area of the part whose cell the union keeps
+		int32_t parent, members;
+		CellKey cell;
+	};
+	std::vector<Node> node(n);
+	for (size_t s = 0; s < n; ++s)
+		node[s].mean = Vec3(0, 0, 0), node[s].area = 0, node[s].radius = 1.0; // (radius: min dot)
 	for (size_t f = 0; f < t.nF; ++f) {
-		const size_t s = size_t(p.label[f]);
-		area[s] += t.faceArea[f];
-		mean[s] += t.faceNormal[f] * t.faceArea[f];
+		Node &x = node[size_t(p.label[f])];
+		x.area += t.faceArea[f];
+		x.mean += t.faceNormal[f] * t.faceArea[f];
 	}
 	for (size_t s = 0; s < n; ++s)
-		if (mean[s].Norm() > 0)
-			mean[s].Normalize();
-	{
-		std::vector<double> minDot(n, 1.0);
-		for (size_t f = 0; f < t.nF; ++f)
-			if (t.faceValid[f]) {
-				const size_t s = size_t(p.label[f]);
-				minDot[s] = std::min(minDot[s], mean[s].dot(t.faceNormal[f]));
-			}
-		for (size_t s = 0; s < n; ++s)
-			radius[s] = minDot[s] < 1.0 ? angle(minDot[s]) : 0.0;
+		if (node[s].mean.Norm() > 0)
+			node[s].mean.Normalize();
+	for (size_t f = 0; f < t.nF; ++f)
+		if (t.faceValid[f]) {
+			Node &x = node[size_t(p.label[f])];
+			x.radius = std::min(x.radius, x.mean.dot(t.faceNormal[f]));
+		}
+	const double cosLimit = std::cos(limit);
+	for (size_t s = 0; s < n; ++s) {
+		Node &x = node[s];
+		x.radius = x.radius < 1.0 ? angle(x.radius) : 0.0;
+		x.cosRoom = x.radius > 0 ? std::cos(std::max(0.0, limit - x.radius)) : cosLimit;
+		x.seedArea = float(x.area);
+		x.parent = int32_t(s), x.members = 1, x.cell = p.cell[s];
 	}
 	// candidate pairs: adjacent (one per shared manifold edge; repeats are harmless), and their
 	// cones fit in one of half-angle `limit`
@@ -178,7 +192,7 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 	};
 	std::vector<uint8_t> mergeable(n);
 	for (size_t s = 0; s < n; ++s)
-		mergeable[s] = p.cell[s] != kInvalidCell && mean[s].Norm() > 0 && radius[s] <= 2 * limit;
+		mergeable[s] = p.cell[s] != kInvalidCell && node[s].mean.Norm() > 0 && node[s].radius <= 2 * limit;
 	const double cos2Limit = std::cos(2 * limit);
 	std::vector<Pair> pairs;
 	for (size_t h = 0; h < t.twin.size(); ++h) {
@@ -188,13 +202,14 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 		const int32_t s = p.label[h / 3], w = p.label[size_t(heFace(tw))];
 		if (s == w || !mergeable[size_t(s)] || !mergeable[size_t(w)])
 			continue;
-		const double used = radius[size_t(s)] + radius[size_t(w)];
+		const double used = node[size_t(s)].radius + node[size_t(w)].radius;
 		if (used > 2 * limit)
 			continue;
-		const double d = mean[size_t(s)].dot(mean[size_t(w)]);
+		const double d = node[size_t(s)].mean.dot(node[size_t(w)].mean);
 		if (d >= (used > 0 ? std::cos(2 * limit - used) : cos2Limit) - 1e-15)
 			pairs.push_back(Pair{std::min(s, w), std::max(s, w), d});
 	}
+	std::vector<uint8_t>().swap(mergeable);
 	if (pairs.empty())
 		return;
 	// closest mean normals first (stable counting sort on the quantized angle)
@@ -209,23 +224,7 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 	    },
 	    bstart, order);
 	// greedy union; a union keeps its normals in a cone of half-angle `limit` (any two within
-	// the level's bound, as inside one cell). One cache line per superface: the loop is bound by
-	// random memory accesses.
-	struct Node {
-		Vec3 mean;
-		double area, radius;
-		double cosRoom; ///< cos(limit - radius): how close the merged mean must stay to mean
-		float seedArea; ///< area of the part whose cell the union keeps
-		int32_t parent, members;
-		CellKey cell;
-	};
-	std::vector<Node> node(n);
-	const double cosLimit = std::cos(limit);
-	for (size_t s = 0; s < n; ++s)
-		node[s] = Node{mean[s], area[s], radius[s],
-		               radius[s] > 0 ? std::cos(std::max(0.0, limit - radius[s])) : cosLimit,
-		               float(area[s]), int32_t(s), 1, p.cell[s]};
-	std::vector<Vec3>().swap(mean);
+	// the level's bound, as inside one cell)
 	auto find = [&](int32_t s) {
 		while (node[size_t(s)].parent != s)
 			s = node[size_t(s)].parent = node[size_t(node[size_t(s)].parent)].parent;
