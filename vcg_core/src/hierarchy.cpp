@@ -11,36 +11,43 @@ namespace detail {
 
 namespace {
 
-// Superface adjacency through 2-manifold edges, as CSR.
+// Superface adjacency through 2-manifold edges, as CSR: each superface's neighbours ascending,
+// once each (counted, filled, then each short list sorted and made unique in place).
 void superfaceAdjacency(const Topology &t, const Partition &p, std::vector<int32_t> &start,
                         std::vector<int32_t> &adj)
 {
-	std::vector<std::pair<int32_t, int32_t>> pairs; // both directions of every adjacency
-	for (size_t h = 0; h < t.twin.size(); ++h) {
-		const int32_t tw = t.twin[h];
-		if (tw < int32_t(h))
-			continue; // boundary (-1) or seen from the other side
-		const int32_t a = p.label[h / 3], b = p.label[size_t(heFace(tw))];
-		if (a != b) {
-			pairs.emplace_back(a, b);
-			pairs.emplace_back(b, a);
+	const size_t n = p.count();
+	start.assign(n + 1, 0);
+	auto forCrossings = [&](auto fn) { // both directions of every adjacency
+		for (size_t h = 0; h < t.twin.size(); ++h) {
+			const int32_t tw = t.twin[h];
+			if (tw < int32_t(h))
+				continue; // boundary (-1) or seen from the other side
+			const int32_t a = p.label[h / 3], b = p.label[size_t(heFace(tw))];
+			if (a != b)
+				fn(a, b), fn(b, a);
 		}
+	};
+	forCrossings([&](int32_t a, int32_t) { ++start[size_t(a) + 1]; });
+	for (size_t s = 0; s < n; ++s)
+		start[s + 1] += start[s];
+	adj.resize(size_t(start[n]));
+	std::vector<int32_t> fill(start.begin(), start.end() - 1);
+	forCrossings([&](int32_t a, int32_t b) { adj[size_t(fill[size_t(a)]++)] = b; });
+	std::vector<int32_t>().swap(fill);
+	int32_t out = 0;
+	for (size_t s = 0; s < n; ++s) {
+		int32_t *b = adj.data() + start[s], *e = adj.data() + start[s + 1];
+		std::sort(b, e);
+		e = std::unique(b, e);
+		int32_t *to = adj.data() + out; // (<= b: the lists only shrink)
+		start[s] = out;
+		if (to != b)
+			std::copy(b, e, to);
+		out += int32_t(e - b);
 	}
-	std::vector<int32_t> bucket, order;
-	bucketSort(
-	    pairs.size(), p.count(), [&](size_t i) { return pairs[i].first; },
-	    [&](int32_t i, int32_t j) { return pairs[size_t(i)].second < pairs[size_t(j)].second; },
-	    bucket, order);
-	start.assign(p.count() + 1, 0);
-	adj.clear();
-	for (size_t s = 0; s < p.count(); ++s) {
-		for (int32_t i = bucket[s]; i < bucket[s + 1]; ++i) {
-			const int32_t w = pairs[size_t(order[size_t(i)])].second;
-			if (i == bucket[s] || w != adj.back())
-				adj.push_back(w); // sorted: duplicates are consecutive
-		}
-		start[s + 1] = int32_t(adj.size());
-	}
+	start[n] = out;
+	adj.resize(size_t(out));
 }
 
 } // namespace
