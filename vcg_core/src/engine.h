@@ -235,7 +235,9 @@ struct Topology {
 /// One level's superfaces: a label per input face.
 struct Partition {
 	int level = 0;
-	std::vector<int32_t> label;   ///< superface per input face, 0..count-1
+	/// Superface per input face, 0..count-1, canonical: every id is used and ids are in the order
+	/// of the superfaces' first (lowest) faces (deterministic, and what keeps renumberings linear).
+	std::vector<int32_t> label;
 	std::vector<CellKey> cell;    ///< per superface, a cell of `level`; kInvalidCell = frozen
 	                              ///< (invalid input face: kept as it is, never merged)
 	std::vector<int8_t> origin;   ///< per superface: level of the partition it comes from (its
@@ -273,9 +275,6 @@ void coarserPartition(const Topology &topo, const Partition &fine, Partition &ou
 /// union keeps the cell of its largest part and gets origin mergedOrigin(p.level); the partition
 /// before the merge is kept in p.part* for its fallback.
 void mergeAcrossCells(const Topology &topo, double boundDeg, Partition &p);
-
-/// Renumbers labels by first face (deterministic ids) and drops unused superfaces.
-void canonicalize(Partition &p);
 
 /// 2.2.2-2.4 for one level: borders, straightening, vicinity merging, re-triangulation; splits
 /// superfaces that cannot be re-triangulated validly into their finer children (`finer[k]` is the

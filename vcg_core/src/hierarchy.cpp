@@ -50,6 +50,30 @@ void superfaceAdjacency(const Topology &t, const Partition &p, std::vector<int32
 	adj.resize(size_t(out));
 }
 
+// Labels every face f with the group of its superface of `from`, group[from.label[f]], with the
+// groups numbered canonically (by first face): in the order of their lowest superface
+// of `from`, whose ids are ordered by first face. Reorders out.cell and out.origin (indexed by
+// group) to match. `from` and `out` may be the same partition.
+void relabelCanonical(const Partition &from, const std::vector<int32_t> &group, Partition &out)
+{
+	const size_t groups = out.cell.size();
+	std::vector<int32_t> id(groups, -1);
+	std::vector<CellKey> cell;
+	std::vector<int8_t> origin;
+	cell.reserve(groups), origin.reserve(groups);
+	for (size_t s = 0; s < group.size(); ++s) {
+		const size_t g = size_t(group[s]);
+		if (id[g] < 0) {
+			id[g] = int32_t(cell.size());
+			cell.push_back(out.cell[g]), origin.push_back(out.origin[g]);
+		}
+	}
+	out.cell.swap(cell), out.origin.swap(origin);
+	out.label.resize(from.label.size());
+	for (size_t f = 0; f < from.label.size(); ++f)
+		out.label[f] = id[size_t(group[size_t(from.label[f])])];
+}
+
 } // namespace
 
 void coarserPartition(const Topology &t, const Partition &fine, Partition &out, int8_t grownOrigin)
@@ -142,10 +166,7 @@ void coarserPartition(const Topology &t, const Partition &fine, Partition &out, 
 		if (members[g] == 1 && firstMember[g] >= 0)
 			out.origin[g] = fine.origin[size_t(firstMember[g])];
 
-	out.label.resize(t.nF);
-	for (size_t f = 0; f < t.nF; ++f)
-		out.label[f] = group[size_t(fine.label[f])];
-	canonicalize(out);
+	relabelCanonical(fine, group, out);
 }
 
 void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
@@ -276,15 +297,17 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 	if (!any)
 		return;
 	p.partLabel = p.label, p.partCell = p.cell, p.partOrigin = p.origin;
-	for (size_t s = 0; s < n; ++s)
-		if (find(int32_t(s)) == int32_t(s)) {
+	std::vector<int32_t> root(n); // (a union's root is its lowest superface)
+	for (size_t s = 0; s < n; ++s) {
+		root[s] = find(int32_t(s));
+		if (root[s] == int32_t(s)) {
 			p.cell[s] = node[s].cell;
 			if (node[s].members > 1)
 				p.origin[s] = mergedOrigin(p.level);
 		}
-	for (int32_t &l : p.label)
-		l = find(l);
-	canonicalize(p);
+	}
+	std::vector<Node>().swap(node);
+	relabelCanonical(p, root, p); // (in place: each face reads its own label first)
 }
 
 } // namespace detail

@@ -1458,7 +1458,7 @@ private:
 				childMap[size_t(c)] = -1;
 			touched.clear();
 		}
-		// Canonical ids (by first face, as canonicalize numbers them: a superface not split keeps
+		// Canonical ids (by first face, see Partition::label: a superface not split keeps
 		// its first face, a new one's is the first of its faces in its parent's ascending range),
 		// each superface's id in the round that failed or the id of the superface split into it
 		// (prevOf_), and the next round's faces per superface (what groupFaces gives): runs of

@@ -48,25 +48,5 @@ void finestPartition(const Topology &t, int level, Partition &out)
 	}
 }
 
-void canonicalize(Partition &p)
-{
-	std::vector<int32_t> remap(p.count(), -1);
-	std::vector<CellKey> cell;
-	std::vector<int8_t> origin;
-	cell.reserve(p.count());
-	origin.reserve(p.count());
-	for (int32_t &l : p.label) {
-		int32_t &r = remap[size_t(l)];
-		if (r < 0) {
-			r = int32_t(cell.size());
-			cell.push_back(p.cell[size_t(l)]);
-			origin.push_back(p.origin[size_t(l)]);
-		}
-		l = r;
-	}
-	p.cell.swap(cell);
-	p.origin.swap(origin);
-}
-
 } // namespace detail
 } // namespace gausslod
