@@ -70,29 +70,34 @@ std::array<int32_t, 3> orientedKey(const Topology &t, size_t f)
 
 // Drops faces with a repeated vertex and faces that repeat an earlier face with the same
 // orientation. (A reversed copy is kept: back to back, the two make a two-sided sheet.)
-void dropNonTriangles(Topology &t)
+void dropNonTriangles(Topology &t, size_t threads)
 {
 	t.faceDropped.assign(t.nF, 0);
 	for (size_t f = 0; f < t.nF; ++f) {
 		const int32_t a = t.T[3 * f], b = t.T[3 * f + 1], c = t.T[3 * f + 2];
 		t.faceDropped[f] = a == b || b == c || a == c;
 	}
-	buildVertexFaces(t);
-	bool any = false;
-	for (size_t f = 0; f < t.nF; ++f) {
-		if (t.faceDropped[f])
-			continue;
-		const std::array<int32_t, 3> key = orientedKey(t, f);
-		for (int32_t i = t.vfStart[size_t(key[0])]; i < t.vfStart[size_t(key[0]) + 1]; ++i) {
-			const int32_t g = t.vfFace[size_t(i)];
-			if (size_t(g) >= f || t.faceDropped[size_t(g)] || orientedKey(t, size_t(g)) != key)
+	buildVertexFaces(t); // (lists the proper triangles only)
+	// A repeat of an earlier proper triangle (whether that one is itself a repeat or not: then it
+	// repeats the first one too), looked for per range of faces on every thread, each thread
+	// writing only its own faces' flags.
+	std::vector<uint8_t> any(threads, 0);
+	parallelRanges(t.nF, threads, [&](size_t begin, size_t end, size_t part) {
+		for (size_t f = begin; f < end; ++f) {
+			if (t.faceDropped[f])
 				continue;
-			t.faceDropped[f] = 1;
-			any = true;
-			break;
+			const std::array<int32_t, 3> key = orientedKey(t, f);
+			for (int32_t i = t.vfStart[size_t(key[0])]; i < t.vfStart[size_t(key[0]) + 1]; ++i) {
+				const int32_t g = t.vfFace[size_t(i)];
+				if (size_t(g) >= f || orientedKey(t, size_t(g)) != key)
+					continue;
+				t.faceDropped[f] = 1;
+				any[part] = 1;
+				break;
+			}
 		}
-	}
-	if (any)
+	});
+	if (std::find(any.begin(), any.end(), uint8_t(1)) != any.end())
 		buildVertexFaces(t);
 }
 
@@ -375,7 +380,7 @@ void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &t, si
 	t.P = mesh.positions;
 	t.T = mesh.triangles;
 	t.diagonal = bboxDiagonal(mesh);
-	dropNonTriangles(t);
+	dropNonTriangles(t, threads);
 	computeFaces(t, threads);
 	buildTwins(t, threads);
 	lockNonManifoldVertices(t, threads);
