@@ -1505,8 +1505,8 @@ private:
 			start[size_t(n) + 1] = start[size_t(n)] + faces;
 		};
 		size_t ci = 0;
-		auto addChildrenBefore = [&](int32_t face) {
-			for (; ci < firsts.size() && firsts[ci].first < face; ++ci) {
+		auto addChildrenBefore = [&](int32_t firstFace) { // (new superfaces that come first)
+			for (; ci < firsts.size() && firsts[ci].first < firstFace; ++ci) {
 				const int32_t c = firsts[ci].second;
 				add(c, parentOf[size_t(c) - base], childSize[size_t(c) - base]);
 			}
