@@ -4,6 +4,8 @@
 #include "engine.h"
 
 #include <algorithm>
+#include <cstdlib>
+#include <cstring>
 #include <numeric>
 
 namespace gausslod {
@@ -74,6 +76,41 @@ void relabelCanonical(const Partition &from, const std::vector<int32_t> &group, 
 		out.label[f] = id[size_t(group[size_t(from.label[f])])];
 }
 
+// Sorts `ids` (ascending) stably by area[id], largest first: an LSD radix sort on the areas'
+// bits (for doubles >= 0 their order), 11 bits a pass, skipping the digits all ids share.
+void sortByAreaDescending(const std::vector<double> &area, std::vector<int32_t> &ids)
+{
+	constexpr int kBits = 11, kPasses = (64 + kBits - 1) / kBits;
+	constexpr size_t kDigits = size_t(1) << kBits;
+	const size_t n = ids.size();
+	std::vector<uint64_t> key(n), key2(n);
+	std::vector<int32_t> ids2(n);
+	std::vector<uint32_t> count(kPasses * kDigits, 0u); // every pass's histogram, in one read
+	for (size_t i = 0; i < n; ++i) {
+		uint64_t bits;
+		std::memcpy(&bits, &area[size_t(ids[i])], sizeof bits);
+		key[i] = ~bits; // (larger areas: smaller keys)
+		for (int p = 0; p < kPasses; ++p)
+			++count[size_t(p) * kDigits + ((key[i] >> (p * kBits)) & (kDigits - 1))];
+	}
+	for (int p = 0; p < kPasses && n > 0; ++p) {
+		const int shift = p * kBits;
+		uint32_t *c = &count[size_t(p) * kDigits];
+		if (c[(key[0] >> shift) & (kDigits - 1)] == n)
+			continue; // one digit for all: the order stays
+		uint32_t sum = 0;
+		for (size_t d = 0; d < kDigits; ++d) {
+			const uint32_t here = c[d];
+			c[d] = sum, sum += here;
+		}
+		for (size_t i = 0; i < n; ++i) {
+			const size_t to = c[(key[i] >> shift) & (kDigits - 1)]++;
+			key2[to] = key[i], ids2[to] = ids[i];
+		}
+		key.swap(key2), ids.swap(ids2);
+	}
+}
+
 } // namespace
 
 void coarserPartition(const Topology &t, const Partition &fine, Partition &out, int8_t grownOrigin)
@@ -126,13 +163,14 @@ void coarserPartition(const Topology &t, const Partition &fine, Partition &out, 
 	std::vector<double> area(n, 0.0);
 	for (size_t f = 0; f < t.nF; ++f)
 		area[size_t(fine.label[f])] += t.faceArea[f];
-	std::vector<std::pair<double, int32_t>> order; // (-area, superface): largest first, then by id
+	std::vector<int32_t> order; // largest first, then by id
 	for (size_t s = 0; s < n; ++s)
 		if (group[s] < 0 && fine.cell[s] != kInvalidCell)
-			order.emplace_back(-area[s], int32_t(s));
-	std::sort(order.begin(), order.end());
-	for (const auto &o : order) {
-		const int32_t s = o.second;
+			order.push_back(int32_t(s));
+	sortByAreaDescending(area, order);
+	std::vector<double>().swap(area);
+	const int m = meshNum(fine.level);
+	for (const int32_t s : order) {
 		if (group[size_t(s)] >= 0)
 			continue;
 		bool open = false; // any neighbour left to absorb? (else skip the neighbourhood)
@@ -143,6 +181,13 @@ void coarserPartition(const Topology &t, const Partition &fine, Partition &out, 
 			continue;
 		}
 		const Cell c = unpackCell(fine.cell[size_t(s)]);
+		if (c.i > 0 && c.j > 0 && c.i < m - 1 && c.j < m - 1) { // inside its cube face
+			grow(s, [&](CellKey w) {
+				const Cell d = unpackCell(w);
+				return d.face == c.face && std::abs(d.i - c.i) <= 1 && std::abs(d.j - c.j) <= 1;
+			});
+			continue;
+		}
 		Cell nb[8];
 		const int cnt = cellNeighbours(c, fine.level, nb);
 		CellKey keys[9];
