@@ -1008,46 +1008,63 @@ private:
 	// input had it right, comes from a re-triangulated superface: fail those superfaces.
 	void checkEdges()
 	{
-		// only an edge with both ends on new triangles can be a new problem: the triangle corners
-		// k (edge k -> k+1) of such edges, grouped by the edge's smaller vertex, then larger
+		// only an edge with both ends on new triangles can be a new problem: those edges, one
+		// record per triangle side (its larger vertex, triangle, direction), grouped by the
+		// smaller vertex (counted, then filled), each group then sorted by the larger one
+		const size_t nt = triBorder_.size();
 		std::vector<uint8_t> onNew(t_.nV, 0);
-		for (size_t k = 0; k < tris_.size(); ++k)
-			if (triBorder_[k / 3] & kNewTriangle)
-				onNew[size_t(tris_[k])] = 1;
-		auto other = [&](size_t k) { return tris_[k - k % 3 + (k % 3 + 1) % 3]; };
-		std::vector<int32_t> corner;
-		for (size_t k = 0; k < tris_.size(); ++k)
-			if (onNew[size_t(tris_[k])] && onNew[size_t(other(k))])
-				corner.push_back(int32_t(k));
-		auto lo = [&](size_t i) { return std::min(tris_[size_t(corner[i])], other(size_t(corner[i]))); };
-		auto hi = [&](int32_t i) {
-			return std::max(tris_[size_t(corner[size_t(i)])], other(size_t(corner[size_t(i)])));
+		for (size_t tri = 0; tri < nt; ++tri)
+			if (triBorder_[tri] & kNewTriangle)
+				for (size_t c = 0; c < 3; ++c)
+					onNew[size_t(tris_[3 * tri + c])] = 1;
+		struct Side {
+			int32_t hi;  ///< the edge's larger vertex
+			int32_t tri; ///< 2 * triangle + 1 if it runs from the larger vertex to the smaller
 		};
-		std::vector<int32_t> start, order;
-		bucketSort(corner.size(), t_.nV, lo, [&](int32_t i, int32_t j) { return hi(i) < hi(j); },
-		           start, order);
-		for (int32_t &o : order)
-			o = corner[size_t(o)]; // back to corner indices, still grouped and sorted
-		auto hiK = [&](int32_t k) { return std::max(tris_[size_t(k)], other(size_t(k))); };
+		std::vector<int32_t> start(t_.nV + 1, 0);
+		auto forSides = [&](auto fn) {
+			for (size_t tri = 0; tri < nt; ++tri) {
+				const int32_t *v = &tris_[3 * tri];
+				for (int c = 0; c < 3; ++c) {
+					const int32_t a = v[c], b = v[c == 2 ? 0 : c + 1];
+					if (onNew[size_t(a)] && onNew[size_t(b)])
+						fn(std::min(a, b), std::max(a, b), int32_t(2 * tri) + (a > b ? 1 : 0));
+				}
+			}
+		};
+		forSides([&](int32_t lo, int32_t, int32_t) { ++start[size_t(lo) + 1]; });
+		for (size_t v = 0; v < t_.nV; ++v)
+			start[v + 1] += start[v];
+		std::vector<Side> side(size_t(start[t_.nV]));
+		{
+			std::vector<int32_t> fill(start.begin(), start.end() - 1);
+			forSides([&](int32_t lo, int32_t hi, int32_t tri) { side[size_t(fill[size_t(lo)]++)] = Side{hi, tri}; });
+		}
 		std::vector<uint8_t> bad(p_.count(), 0);
 		for (size_t v = 0; v < t_.nV; ++v) {
-			for (int32_t i = start[v]; i < start[v + 1];) {
-				int32_t j = i + 1;
-				while (j < start[v + 1] && hiK(order[size_t(j)]) == hiK(order[size_t(i)]))
+			Side *gb = side.data() + start[v], *ge = side.data() + start[v + 1];
+			if (ge - gb < 2)
+				continue;
+			if (ge - gb <= 16) { // (insertion sort: a vertex has few edges, usually)
+				for (Side *i = gb + 1; i < ge; ++i)
+					for (Side *j = i; j > gb && j->hi < (j - 1)->hi; --j)
+						std::swap(*j, *(j - 1));
+			} else {
+				std::sort(gb, ge, [](const Side &x, const Side &y) { return x.hi < y.hi; });
+			}
+			for (Side *i = gb; i < ge;) {
+				Side *j = i + 1;
+				while (j < ge && j->hi == i->hi)
 					++j;
 				const size_t cnt = size_t(j - i);
 				bool anyNew = false;
-				for (int32_t q = i; q < j; ++q)
-					anyNew = anyNew || (triBorder_[size_t(order[size_t(q)]) / 3] & kNewTriangle);
-				auto reversed = [&](int32_t q) {
-					const size_t k = size_t(order[size_t(q)]);
-					return tris_[k] > other(k);
-				};
+				for (Side *q = i; q < j; ++q)
+					anyNew = anyNew || (triBorder_[size_t(q->tri >> 1)] & kNewTriangle);
 				if (anyNew && cnt >= 2) {
-					const bool sameDir = cnt == 2 && reversed(i) == reversed(i + 1);
+					const bool sameDir = cnt == 2 && (i->tri & 1) == ((i + 1)->tri & 1);
 					if (cnt > 2 || sameDir) {
 						int inputCnt = 0, inputFwd = 0;
-						const int32_t a = int32_t(v), b = hiK(order[size_t(i)]);
+						const int32_t a = int32_t(v), b = i->hi;
 						for (int32_t q = t_.vfStart[size_t(a)]; q < t_.vfStart[size_t(a) + 1]; ++q)
 							for (int k = 0; k < 3; ++k) {
 								const int32_t h = 3 * t_.vfFace[size_t(q)] + k;
@@ -1058,8 +1075,8 @@ private:
 							}
 						const bool inputSameDir = inputCnt == 2 && (inputFwd == 0 || inputFwd == 2);
 						if ((cnt > 2 && int(cnt) > inputCnt) || (sameDir && !inputSameDir))
-							for (int32_t q = i; q < j; ++q) {
-								const size_t tri = size_t(order[size_t(q)]) / 3;
+							for (Side *q = i; q < j; ++q) {
+								const size_t tri = size_t(q->tri >> 1);
 								if (triBorder_[tri] & kNewTriangle)
 									bad[size_t(triSf_[tri])] = 1;
 							}
