@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <numeric>
 
 namespace gausslod {
@@ -233,7 +234,7 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 		int32_t parent, members;
 		CellKey cell;
 	};
-	std::vector<Node> node(n);
+	std::unique_ptr<Node[]> node(new Node[n]); // (not zeroed: every field is set below)
 	for (size_t s = 0; s < n; ++s)
 		node[s].mean = Vec3(0, 0, 0), node[s].area = 0, node[s].radius = 1.0; // (radius: min dot)
 	for (size_t f = 0; f < t.nF; ++f) {
@@ -351,7 +352,7 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 				p.origin[s] = mergedOrigin(p.level);
 		}
 	}
-	std::vector<Node>().swap(node);
+	node.reset();
 	relabelCanonical(p, root, p); // (in place: each face reads its own label first)
 }
 

@@ -281,22 +281,33 @@ private:
 			updateBorders();
 			return;
 		}
-		border_.assign(3 * t_.nF, 0);
-		degree_.assign(t_.nV, 0);
-		for (size_t h = 0; h < 3 * t_.nF; ++h) {
-			const int32_t tw = t_.twin[h];
-			const bool b = !t_.faceDropped[h / 3] &&
-			               (tw < 0 || p_.label[h / 3] != p_.label[size_t(heFace(tw))]);
-			border_[h] = b;
-			if (b && (tw < 0 || int32_t(h) < tw)) {
-				++degree_[size_t(t_.heFrom(int32_t(h)))];
-				++degree_[size_t(t_.heTo(int32_t(h)))];
+		// (on every thread: the flags per face range, then per vertex range its border edges,
+		// each counted at its one half-edge that is unpaired or the lower of the two, found among
+		// the vertex's faces, where it is the only corner)
+		border_.resize(3 * t_.nF);
+		parallelRanges(t_.nF, threads_, [&](size_t f0, size_t f1, size_t) {
+			for (size_t f = f0; f < f1; ++f)
+				for (size_t h = 3 * f; h < 3 * f + 3; ++h) {
+					const int32_t tw = t_.twin[h];
+					border_[h] = !t_.faceDropped[f] &&
+					             (tw < 0 || p_.label[f] != p_.label[size_t(heFace(tw))]);
+				}
+		});
+		degree_.resize(t_.nV), junction_.resize(t_.nV), keep_.resize(t_.nV);
+		parallelRanges(t_.nV, threads_, [&](size_t v0, size_t v1, size_t) {
+			for (size_t v = v0; v < v1; ++v) {
+				int32_t d = 0;
+				for (int32_t q = t_.vfStart[v]; q < t_.vfStart[v + 1]; ++q) {
+					const int32_t f = t_.vfFace[size_t(q)];
+					const int32_t k = t_.T[3 * f] == int32_t(v) ? 0 : t_.T[3 * f + 1] == int32_t(v) ? 1 : 2;
+					for (const int32_t h : {3 * f + k, 3 * f + (k + 2) % 3}) // out of v, into v
+						if (border_[size_t(h)] && (t_.twin[size_t(h)] < 0 || h < t_.twin[size_t(h)]))
+							++d;
+				}
+				degree_[v] = d;
+				junction_[v] = keep_[v] = isJunction(v);
 			}
-		}
-		junction_.assign(t_.nV, 0);
-		for (size_t v = 0; v < t_.nV; ++v)
-			junction_[v] = isJunction(v);
-		keep_ = junction_;
+		});
 		changed_.assign(t_.nV, 0);
 		changedList_.clear();
 	}
