@@ -5,7 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
 
 using namespace gausslod;
 using namespace testmesh;
@@ -186,6 +189,149 @@ TEST(Retriangulation, a_ring_projecting_onto_one_line_is_refused_and_a_square_is
 	ASSERT_TRUE(detail::triangulateRings(square));
 	EXPECT_EQ(square.tris.size(), 6u);
 	EXPECT_GE(square.queryTri[0], 0);
+}
+
+namespace {
+
+// The result of a triangulation as sets: each triangle rotated to start at its smallest vertex
+// (sorted), and per query the triangle it was given ({-1,-1,-1}: none).
+struct TriangulationSets {
+	std::vector<std::array<int32_t, 4>> tris; // 3 vertices + constrained bits, rotated alike
+	std::vector<std::array<int32_t, 3>> query;
+	bool operator==(const TriangulationSets &o) const { return tris == o.tris && query == o.query; }
+};
+
+TriangulationSets asSets(const detail::TriangulationJob &j)
+{
+	TriangulationSets s;
+	std::vector<std::array<int32_t, 3>> rotated;
+	for (size_t t = 0; 3 * t < j.tris.size(); ++t) {
+		const int32_t *v = &j.tris[3 * t];
+		const int r = v[0] < v[1] ? (v[0] < v[2] ? 0 : 2) : (v[1] < v[2] ? 1 : 2);
+		const int bits = j.constrained[t];
+		const int rb = ((bits >> r) | (bits << (3 - r))) & 7; // (bit k: edge k, rotated with it)
+		rotated.push_back({v[r], v[(r + 1) % 3], v[(r + 2) % 3]});
+		s.tris.push_back({v[r], v[(r + 1) % 3], v[(r + 2) % 3], rb});
+	}
+	std::sort(s.tris.begin(), s.tris.end());
+	for (const int32_t t : j.queryTri)
+		s.query.push_back(t < 0 ? std::array<int32_t, 3>{-1, -1, -1} : rotated[size_t(t)]);
+	return s;
+}
+
+} // namespace
+
+TEST(Retriangulation, the_small_ring_path_answers_as_cgal_does_or_leaves_the_ring_to_cgal)
+{
+	// random star-shaped rings of 4..16 vertices (some with vertices on a circle, some with
+	// collinear runs), queries inside and around them: where the fast path answers, CGAL's
+	// constrained Delaunay path gives the same triangles, edge flags and query answers
+	uint64_t seed = 12345;
+	auto rnd = [&]() { // uniform in [0, 1)
+		seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+		return double(seed >> 11) * (1.0 / 9007199254740992.0);
+	};
+	size_t answered = 0, outsideQueries = 0, byKind[4] = {}, plainAnswered = 0;
+	for (int it = 0; it < 4000; ++it) {
+		const size_t n = 4 + size_t(rnd() * 13);
+		const int kind = it % 4; // 0 random radii, 1 on a circle, 2 grid-snapped, 3 thin
+		const bool withOutside = (it / 4) % 2 == 1;
+		detail::TriangulationJob job;
+		std::vector<double> angle(n);
+		for (double &a : angle)
+			a = rnd() * 2 * M_PI;
+		std::sort(angle.begin(), angle.end());
+		for (size_t i = 0; i < n; ++i) {
+			double r = kind == 1 ? 1.0 : 0.3 + rnd();
+			double x = r * std::cos(angle[i]), y = r * std::sin(angle[i]);
+			if (kind == 2)
+				x = std::round(4 * x) / 4, y = std::round(4 * y) / 4;
+			if (kind == 3)
+				y *= 1e-3;
+			job.xy.push_back(x), job.xy.push_back(y);
+		}
+		job.ringStart = {0, int32_t(n)};
+		// queries as at a superface: most inside (in the fan from the centre, the ring being
+		// star-shaped around it), a few just outside an edge
+		for (int q = 0; q < 24; ++q) {
+			const size_t i = size_t(rnd() * double(n)), j = (i + 1) % n;
+			double u = rnd(), v = rnd();
+			if (u + v > 1)
+				u = 1 - u, v = 1 - v;
+			double x = u * job.xy[2 * i] + v * job.xy[2 * j], y = u * job.xy[2 * i + 1] + v * job.xy[2 * j + 1];
+			if (withOutside && q % 8 == 7) { // just beyond the edge (a face a straightened border cut off)
+				const double dx = job.xy[2 * j] - job.xy[2 * i], dy = job.xy[2 * j + 1] - job.xy[2 * i + 1];
+				const double along = 0.3 + 0.4 * rnd();
+				x = job.xy[2 * i] + along * dx + 0.02 * dy;
+				y = job.xy[2 * i + 1] + along * dy - 0.02 * dx;
+			}
+			job.queryXY.push_back(x), job.queryXY.push_back(y);
+		}
+		detail::TriangulationJob cgal = job;
+		const bool cgalOk = detail::triangulateRings(cgal, false);
+		detail::TriangulationJob fast = job;
+		if (detail::triangulateSmallRing(fast) != detail::SmallRing::Done)
+			continue;
+		++answered, ++byKind[kind];
+		plainAnswered += !withOutside && (kind == 0 || kind == 3);
+		ASSERT_TRUE(cgalOk) << "ring " << it;
+		ASSERT_TRUE(asSets(fast) == asSets(cgal)) << "ring " << it << " (" << n << " vertices, kind " << kind << ")";
+		EXPECT_EQ(fast.tris.size(), 3 * (n - 2));
+		for (const int32_t t : fast.queryTri)
+			outsideQueries += t < 0;
+		// and triangulateRings takes this path: the same answer
+		detail::TriangulationJob viaRings = job;
+		ASSERT_TRUE(detail::triangulateRings(viaRings));
+		EXPECT_TRUE(asSets(viaRings) == asSets(cgal));
+	}
+	// (measured: see the output) the fast path answers most rings with random radii when their
+	// queries are inside; a query outside is often in a pocket between two ring edges (CGAL's
+	// answer depends on its storage: left to it), and some are answered
+	EXPECT_GT(plainAnswered, 900u); // of 1000
+	EXPECT_GT(outsideQueries, 100u);
+	std::printf("small rings answered: %zu of 4000 (random radii %zu, on a circle %zu, on a grid %zu, thin %zu; "
+	            "random radii or thin with inside queries only: %zu of 1000), queries answered -1: %zu\n",
+	            answered, byKind[0], byKind[1], byKind[2], byKind[3], plainAnswered, outsideQueries);
+
+	// left to CGAL: four cocircular corners (two Delaunay answers), a straight vertex, a
+	// clockwise ring, crossing edges
+	detail::TriangulationJob square;
+	square.xy = {0, 0, 1, 0, 1, 1, 0, 1};
+	square.ringStart = {0, 4};
+	EXPECT_EQ(detail::triangulateSmallRing(square), detail::SmallRing::NotHandled);
+	detail::TriangulationJob straight;
+	straight.xy = {0, 0, 1, 0, 2, 0, 2, 1.3, 0, 1.1};
+	straight.ringStart = {0, 5};
+	EXPECT_EQ(detail::triangulateSmallRing(straight), detail::SmallRing::NotHandled);
+	detail::TriangulationJob clockwise;
+	clockwise.xy = {0, 0, 0, 1.1, 1, 1.3, 1.2, 0};
+	clockwise.ringStart = {0, 4};
+	EXPECT_EQ(detail::triangulateSmallRing(clockwise), detail::SmallRing::NotHandled);
+	EXPECT_FALSE(detail::triangulateRings(clockwise));
+	detail::TriangulationJob bowtie;
+	bowtie.xy = {0, 0, 1, 1.2, 1.1, 0, 0, 1};
+	bowtie.ringStart = {0, 4};
+	EXPECT_EQ(detail::triangulateSmallRing(bowtie), detail::SmallRing::NotHandled);
+	EXPECT_FALSE(detail::triangulateRings(bowtie));
+	// a notch whose pocket (between hull edge 2 -> 5 and the ring) is two triangles: a query just
+	// outside ring edge 4 -> 5 lies in the one with that ring edge only, and gets the inside
+	// triangle across it, as from CGAL
+	detail::TriangulationJob notch;
+	notch.xy = {0, 0, 4, 0, 4, 4, 2.6, 3.0, 1.4, 3.1, 0, 4};
+	notch.ringStart = {0, 6};
+	notch.queryXY = {0.7, 3.6, 2.0, 1.0};
+	detail::TriangulationJob notchCgal = notch;
+	ASSERT_TRUE(detail::triangulateRings(notchCgal, false));
+	ASSERT_EQ(detail::triangulateSmallRing(notch), detail::SmallRing::Done);
+	EXPECT_TRUE(asSets(notch) == asSets(notchCgal));
+	EXPECT_GE(notch.queryTri[0], 0);
+	detail::TriangulationJob kite; // (no four cocircular: answered)
+	kite.xy = {0, 0, 2, -0.5, 3, 0.2, 1.1, 1.7};
+	kite.ringStart = {0, 4};
+	kite.queryXY = {1.5, 0.3};
+	EXPECT_EQ(detail::triangulateSmallRing(kite), detail::SmallRing::Done);
+	EXPECT_EQ(kite.tris.size(), 6u);
+	EXPECT_GE(kite.queryTri[0], 0);
 }
 
 TEST(LevelGeometry, a_level_over_its_face_limit_is_abandoned_after_the_round_that_exceeds_it)

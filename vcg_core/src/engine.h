@@ -298,8 +298,17 @@ struct TriangulationJob {
 	                                 ///< domain, the one across the ring edge); else -1
 };
 /// Returns false when the rings are not a valid planar domain: two ring vertices coincide, ring
-/// edges cross or overlap, or a ring edge is missing from the result.
-bool triangulateRings(TriangulationJob &job);
+/// edges cross or overlap, or a ring edge is missing from the result. One ring of at most
+/// kSmallRingMax vertices goes to triangulateSmallRing first (smallRings = false: never).
+bool triangulateRings(TriangulationJob &job, bool smallRings = true);
+
+/// The fast path of triangulateRings (small_polygon.cpp): one ring of 4 to kSmallRingMax
+/// vertices, answered only when every predicate is certain in doubles, and then with the
+/// triangles CGAL's path gives (in another order; see there). NotHandled leaves job.tris and
+/// job.constrained unchanged.
+constexpr size_t kSmallRingMax = 16;
+enum class SmallRing { Done, NotHandled };
+SmallRing triangulateSmallRing(TriangulationJob &job);
 
 } // namespace detail
 } // namespace gausslod

@@ -65,10 +65,12 @@ bool inside(CDT::Face_handle f) { return f->info().nesting % 2 == 1; }
 
 } // namespace
 
-bool triangulateRings(TriangulationJob &job)
+bool triangulateRings(TriangulationJob &job, bool smallRings)
 {
 	job.tris.clear();
 	job.constrained.clear();
+	if (smallRings && triangulateSmallRing(job) == SmallRing::Done)
+		return true;
 	job.queryTri.assign(job.queryXY.size() / 2, -1);
 	const size_t n = job.xy.size() / 2;
 	if (n < 3 || job.ringStart.size() < 2)
