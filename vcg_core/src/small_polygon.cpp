@@ -102,7 +102,7 @@ bool triangulatePolygon(const P2 *p, const int32_t *poly, size_t m, int32_t *tri
 	emit(prv[v], v, nxt[v]);
 
 	// flips until every diagonal is certainly locally Delaunay (polygon edges stay)
-	int32_t pos[kSmallRingMax * 2]; // point index -> position in poly (points < 2 * max)
+	int32_t pos[kSmallRingMax]; // point index (< kSmallRingMax) -> position in poly
 	for (size_t i = 0; i < m; ++i)
 		pos[poly[i]] = int32_t(i);
 	auto boundary = [&](int32_t a, int32_t b) {
