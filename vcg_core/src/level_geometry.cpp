@@ -1046,7 +1046,7 @@ private:
 		forSides([&](int32_t lo, int32_t, int32_t) { ++start[size_t(lo) + 1]; });
 		for (size_t v = 0; v < t_.nV; ++v)
 			start[v + 1] += start[v];
-		std::vector<Side> side(size_t(start[t_.nV]));
+		std::vector<Side> side(static_cast<size_t>(start[t_.nV]));
 		{
 			std::vector<int32_t> fill(start.begin(), start.end() - 1);
 			forSides([&](int32_t lo, int32_t hi, int32_t tri) { side[size_t(fill[size_t(lo)]++)] = Side{hi, tri}; });
