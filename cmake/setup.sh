@@ -4,6 +4,8 @@
 #  2. the Debian SOURCE package of the installed meshlab (MeshLab src/common + vcglib headers),
 #     unpacked once into $GAUSSLOD_DEPS (default: <repo>/.deps, git-ignored);
 #  3. Debian's libcgal-demo data (real test models), unpacked into the same folder.
+# Real files users have (STL soups, textured OBJ with materials, broken files from importer
+# regression suites) come from the package assimp-testmodels (/usr/share/assimp/models).
 # A deb-src entry is derived from the machine's own apt configuration; no host name is written here.
 set -euo pipefail
 
@@ -19,7 +21,8 @@ need_root() {
 
 pkgs=(meshlab qtbase5-dev libqt5opengl5-dev libqt5xmlpatterns5-dev libglew-dev libglu1-mesa-dev
       libeigen3-dev cmake g++ make xvfb xauth libgtest-dev libcgal-dev libgmp-dev libmpfr-dev
-      dpkg-dev xdotool imagemagick x11-utils clang libclang-rt-14-dev)
+      dpkg-dev xdotool imagemagick x11-utils clang libclang-rt-14-dev
+      assimp-testmodels parallel)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
