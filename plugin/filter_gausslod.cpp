@@ -112,6 +112,12 @@ bool readRequest(const RichParameterList &par, double diag, FilterRequest &req, 
 		return false;
 	}
 	p.mergeAcrossCells = par.getBool("acrossCells");
+	p.weldVertices = par.getBool("weldVertices");
+	p.weldDistance = absoluteFromAbsPerc(par, "weldDistance", diag);
+	if (!std::isfinite(p.weldDistance) || p.weldDistance < 0) {
+		error = QString("Weld distance must be >= 0 (got %1).").arg(p.weldDistance);
+		return false;
+	}
 	req.colourSuperfaces = par.getBool("colourSuperfaces");
 	req.fauxEdges = par.getBool("fauxEdges");
 	return true;
@@ -296,6 +302,19 @@ void FilterGaussLodPlugin::initParameterSet(QAction *a, MeshModel &m, RichParame
 		    "within the feature angle, so sharp edges stay sharp). Fewer faces on near-flat or "
 		    "slightly noisy regions that a cell border would cut. Off = the paper's superfaces "
 		    "(faces of one cell only)."));
+		par.addParam(RichBool(
+		    "weldVertices", true, "Weld coincident vertices",
+		    "Vertices at exactly the same position are joined before simplifying (the first "
+		    "one is kept), as MeshLab does to STL files on import: a triangle soup (STL, most "
+		    "CAD and BIM exports) then has the shared edges its superfaces grow across. The "
+		    "input layer is not changed; the log says how many were welded. Off = only vertices "
+		    "that faces already share are joined."));
+		par.addParam(RichAbsPerc(
+		    "weldDistance", 0.0f, 0.0f, diag, "Weld distance",
+		    "With welding on: vertices closer than this (mesh units; the percentage is of the "
+		    "bounding-box diagonal) to an earlier kept vertex are joined to it too, for files "
+		    "whose coincident vertices differ by rounding. 0 = exactly equal positions only "
+		    "(default)."));
 		par.addParam(RichBool("colourSuperfaces", true, "Colour faces by superface",
 		                      "Give every superface of an output level its own per-face colour."));
 		par.addParam(RichBool(
@@ -396,6 +415,20 @@ bool FilterGaussLodPlugin::buildGaussSphereLods(MeshDocument &md, const RichPara
 	}
 	md.setCurrent(coarsest);
 
+	const gausslod::InputStats &in = result.input;
+	if (in.weldedVertices || in.facesSkipped() || in.facesDegenerate || in.verticesLocked)
+		Log(QString("Input repairs (the input layer is unchanged): %1 vertices welded (%2 faces "
+		            "re-indexed); %3 faces skipped (%4 with a repeated vertex, %5 repeating an "
+		            "earlier face); %6 degenerate faces kept as they are; %7 vertices locked "
+		            "(non-manifold or inconsistently oriented edges, non-manifold vertices)")
+		        .arg(thousands(in.weldedVertices))
+		        .arg(thousands(in.facesReindexed))
+		        .arg(thousands(in.facesSkipped()))
+		        .arg(thousands(in.facesRepeatedVertex))
+		        .arg(thousands(in.facesDuplicate))
+		        .arg(thousands(in.facesDegenerate))
+		        .arg(thousands(in.verticesLocked))
+		        .toStdString());
 	for (const gausslod::LevelMesh &level : result.levels)
 		Log(levelLogLine(level.stats, diag).toStdString());
 	Log(QString(

@@ -1,54 +1,377 @@
 // gausslod: the GaussLOD engine from the command line (no MeshLab needed).
 //   gausslod [options] INPUT(.ply|.obj|.off|.stl) OUTDIR
+//   gausslod --check [options] INPUT
+//   gausslod batch [options] MANIFEST OUTDIR [--part K/N]      (batch.cpp)
 // Writes OUTDIR/<name>_LOD<i>.ply per level and prints a per-level table (or JSON lines).
-#include "gausslod/gausslod.h"
+#include "cli.h"
+
 #include "gausslod/import_mesh.h"
 #include "gausslod/io_mesh.h"
 #include "gausslod/level_ply.h"
 #include "gausslod/vcg_adapter.h"
 
-#include <vcg/complex/complex.h>
-
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
+#include <new>
 #include <string>
 #include <sys/stat.h>
+#include <unistd.h>
+
+namespace cli {
 
 namespace {
 
-using CMesh = gausslod::IoMesh;
+bool parseDouble(const std::string &s, double &out)
+{
+	char *end = nullptr;
+	out = std::strtod(s.c_str(), &end);
+	return end && *end == 0 && end != s.c_str();
+}
+
+// The "Output levels" list (as the filter's): "all" or comma-separated level indices.
+bool parseOutputLevels(Options &o, std::string &error)
+{
+	gausslod::Params &p = o.params;
+	p.levelMask = 0xffffffffu;
+	if (o.outputLevels == "all")
+		return true;
+	p.levelMask = 0;
+	std::string item;
+	for (size_t i = 0; i <= o.outputLevels.size(); ++i) {
+		if (i < o.outputLevels.size() && o.outputLevels[i] != ',') {
+			item += o.outputLevels[i];
+			continue;
+		}
+		char *end = nullptr;
+		const long level = std::strtol(item.c_str(), &end, 10);
+		if (item.empty() || *end != 0 || level < 0 || level >= p.maxLevel) {
+			error = "--output-levels: '" + item + "' is not a level index; write \"all\" or a " +
+			        "comma list of numbers from 0 (coarsest) to " + std::to_string(p.maxLevel - 1) +
+			        " (finest)";
+			return false;
+		}
+		p.levelMask |= 1u << level;
+		item.clear();
+	}
+	return true;
+}
+
+bool makeDirs(const std::string &dir)
+{
+	for (size_t i = 1; i <= dir.size(); ++i)
+		if (i == dir.size() || dir[i] == '/') {
+			const std::string part = dir.substr(0, i);
+			if (mkdir(part.c_str(), 0777) != 0 && errno != EEXIST)
+				return false;
+		}
+	struct stat st;
+	return stat(dir.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+void setError(Outcome &out, int code, const char *kind, const std::string &message)
+{
+	out.code = code;
+	out.kind = kind;
+	out.message = message;
+}
+
+void setEngineError(Outcome &out, const gausslod::Result &res)
+{
+	switch (res.errorKind) {
+	case gausslod::ErrorKind::BadParameter:
+		return setError(out, kUsage, "bad_parameter", res.error);
+	case gausslod::ErrorKind::BadInput:
+		return setError(out, kUnusable, "bad_input", res.error);
+	case gausslod::ErrorKind::OutOfMemory:
+		return setError(out, kNoMemory, "out_of_memory", res.error);
+	default:
+		return setError(out, kFailed, "failed", res.error);
+	}
+}
+
+// Reads `input` into flat arrays and sets the distances of `p` from the percentages.
+bool readInput(const std::string &input, const Options &o, gausslod::FlatMesh &flat,
+               gausslod::Params &p, Outcome &out)
+{
+	{ // the VCG mesh is freed once flattened (the engine works on the flat arrays)
+		gausslod::IoMesh mesh;
+		gausslod::ReadError error;
+		if (!gausslod::importMesh(mesh, input, error)) {
+			const int code = error.status == gausslod::ReadStatus::CannotOpen ? kCannotOpen
+			                 : error.status == gausslod::ReadStatus::TooLarge ? kNoMemory
+			                                                                  : kUnreadable;
+			setError(out, code, gausslod::readStatusName(error.status), error.message);
+			return false;
+		}
+		flat = gausslod::flatten(mesh);
+	}
+	out.inputFaces = flat.triangles.size() / 3;
+	out.inputVertices = flat.positions.size() / 3;
+	const double diag = out.diagonal = gausslod::bboxDiagonal(flat.view());
+	p = o.params;
+	p.straightenTolerance = o.straightenPct / 100.0 * diag;
+	p.mergeDistance = o.mergePct / 100.0 * diag;
+	p.maxDistance = o.maxDistancePct / 100.0 * diag;
+	p.weldDistance = o.weldPct / 100.0 * diag;
+	return true;
+}
+
+} // namespace
+
+const char *optionHelp()
+{
+	return "options (defaults as in the MeshLab filter):\n"
+	       "  --levels N          number of levels, 1..8 (5)\n"
+	       "  --feature-angle D   vertex-class threshold, degrees (30)\n"
+	       "  --straighten P      border straightening tolerance, % of bbox diagonal (0.5)\n"
+	       "  --merge P           vicinity merge distance, % of bbox diagonal (0.25)\n"
+	       "  --max-distance P    distance tolerance, % of bbox diagonal: no removed input\n"
+	       "                      vertex farther from the output (0 = none, the default)\n"
+	       "  --normal-limit F    normal deviation limit, x each level's bound; 0 = none (1)\n"
+	       "  --output-levels L   \"all\" or a comma list of levels to write, 0 = coarsest (all)\n"
+	       "  --paper-superfaces  superfaces within one Gauss-sphere cell only, as in the paper\n"
+	       "                      (default: also merge across cell borders within the bound)\n"
+	       "  --no-weld           keep vertices at the same position apart (default: weld them,\n"
+	       "                      as MeshLab does to STL files, so that triangle soups simplify)\n"
+	       "  --weld-distance P   also weld vertices closer than P % of the bbox diagonal (0)\n"
+	       "  --threads N         worker threads, 0 = one per core (0); same output for any N\n"
+	       "  --no-colour         do not colour faces by superface\n"
+	       "  --json              one JSON line per level instead of the table\n";
+}
+
+bool parseOptions(const std::vector<std::string> &args, Options &o,
+                  std::vector<std::string> &positional, std::string &error)
+{
+	for (size_t i = 0; i < args.size(); ++i) {
+		const std::string &a = args[i];
+		double v = 0;
+		auto number = [&](double &out) {
+			if (i + 1 >= args.size() || !parseDouble(args[i + 1], out)) {
+				error = a + " needs a number";
+				return false;
+			}
+			++i;
+			return true;
+		};
+		if (a == "--levels" || a == "--threads") {
+			if (!number(v))
+				return false;
+			if (!(v >= -1e9 && v <= 1e9) || v != double(int(v))) {
+				error = a + " needs a whole number";
+				return false;
+			}
+			(a == "--levels" ? o.params.maxLevel : o.params.threads) = int(v);
+		} else if (a == "--feature-angle") {
+			if (!number(o.params.featureAngleDeg))
+				return false;
+		} else if (a == "--straighten") {
+			if (!number(o.straightenPct))
+				return false;
+		} else if (a == "--merge") {
+			if (!number(o.mergePct))
+				return false;
+		} else if (a == "--max-distance") {
+			if (!number(o.maxDistancePct))
+				return false;
+		} else if (a == "--weld-distance") {
+			if (!number(o.weldPct))
+				return false;
+		} else if (a == "--normal-limit") {
+			if (!number(o.params.deviationFactor))
+				return false;
+		} else if (a == "--output-levels") {
+			if (i + 1 >= args.size()) {
+				error = a + " needs a list";
+				return false;
+			}
+			o.outputLevels = args[++i];
+		} else if (a == "--paper-superfaces") {
+			o.params.mergeAcrossCells = false;
+		} else if (a == "--no-weld") {
+			o.params.weldVertices = false;
+		} else if (a == "--no-colour") {
+			o.colour = false;
+		} else if (a == "--json") {
+			o.json = true;
+		} else if (a.size() > 1 && a[0] == '-') {
+			error = "unknown option " + a;
+			return false;
+		} else {
+			positional.push_back(a);
+		}
+	}
+	for (const double pct : {o.straightenPct, o.mergePct, o.maxDistancePct, o.weldPct})
+		if (!(pct >= 0 && pct <= 100)) {
+			error = "distances are percentages of the bounding-box diagonal, from 0 to 100";
+			return false;
+		}
+	return parseOutputLevels(o, error);
+}
+
+std::string jsonString(const std::string &s)
+{
+	std::string out = "\"";
+	for (const char c : s) {
+		if (c == '"' || c == '\\') {
+			out += '\\';
+			out += c;
+		} else if (static_cast<unsigned char>(c) < 0x20) {
+			char buf[8];
+			std::snprintf(buf, sizeof buf, "\\u%04x", unsigned(c));
+			out += buf;
+		} else {
+			out += c;
+		}
+	}
+	return out + "\"";
+}
+
+std::string repairsJson(const gausslod::InputStats &in)
+{
+	char buf[320];
+	std::snprintf(buf, sizeof buf,
+	              "\"welded_vertices\":%zu,\"faces_reindexed\":%zu,"
+	              "\"faces_skipped_repeated_vertex\":%zu,\"faces_skipped_duplicate\":%zu,"
+	              "\"faces_kept_degenerate\":%zu,\"vertices_locked\":%zu",
+	              in.weldedVertices, in.facesReindexed, in.facesRepeatedVertex, in.facesDuplicate,
+	              in.facesDegenerate, in.verticesLocked);
+	return buf;
+}
+
+std::string repairsText(const gausslod::InputStats &in)
+{
+	std::string s;
+	char buf[160];
+	auto add = [&](const char *text) { s += s.empty() ? "" : "; ", s += text; };
+	if (in.weldedVertices) {
+		std::snprintf(buf, sizeof buf, "%zu vertices welded (%zu faces re-indexed)",
+		              in.weldedVertices, in.facesReindexed);
+		add(buf);
+	}
+	if (in.facesSkipped()) {
+		std::snprintf(buf, sizeof buf, "%zu faces skipped (%zu with a repeated vertex, %zu repeats)",
+		              in.facesSkipped(), in.facesRepeatedVertex, in.facesDuplicate);
+		add(buf);
+	}
+	if (in.facesDegenerate) {
+		std::snprintf(buf, sizeof buf, "%zu degenerate faces kept as they are", in.facesDegenerate);
+		add(buf);
+	}
+	if (in.verticesLocked) {
+		std::snprintf(buf, sizeof buf,
+		              "%zu vertices locked (non-manifold or inconsistently oriented edges, "
+		              "non-manifold vertices, degenerate faces)",
+		              in.verticesLocked);
+		add(buf);
+	}
+	return s;
+}
+
+Outcome checkOne(const std::string &input, const Options &o)
+{
+	Outcome out;
+	try {
+		gausslod::FlatMesh flat;
+		gausslod::Params p;
+		if (!readInput(input, o, flat, p, out))
+			return out;
+		const gausslod::Result res = gausslod::checkInput(flat.view(), p);
+		if (!res.ok)
+			setEngineError(out, res);
+		out.levels.emplace_back();
+		out.levels.back().input = res.input;
+	} catch (const std::bad_alloc &) {
+		setError(out, kNoMemory, "out_of_memory", "out of memory");
+	}
+	return out;
+}
+
+Outcome runOne(const std::string &input, const std::string &outdir, const std::string &stem,
+               const Options &o, const LevelDone &done)
+{
+	Outcome out;
+	try {
+		gausslod::FlatMesh flat;
+		gausslod::Params p;
+		if (!readInput(input, o, flat, p, out))
+			return out;
+#ifdef __GLIBC__
+		// below 500k faces the freed arrays weigh more in the peak and are cheap to map (DESIGN.md)
+		mallopt(M_MMAP_THRESHOLD, out.inputFaces < 500000 ? 256 << 10 : 4 << 20);
+#endif
+		std::string writeError;
+		const std::string part = ".part-" + std::to_string(getpid());
+		// each level is written as soon as it is built, then dropped (one level in memory at a time)
+		auto sink = [&](const gausslod::LevelMesh &lm) {
+			if (out.files.empty() && !makeDirs(outdir)) {
+				writeError = "cannot create the output folder " + outdir;
+				return false;
+			}
+			const std::string name = stem + "_LOD" + std::to_string(lm.stats.level) + ".ply";
+			const std::string file = outdir + "/" + name, tmp = outdir + "/." + name + part;
+			if (!gausslod::writeLevelPly(lm, tmp, o.colour, writeError)) {
+				std::remove(tmp.c_str());
+				return false;
+			}
+			if (std::rename(tmp.c_str(), file.c_str()) != 0) {
+				writeError = "cannot write " + file + ": " + std::strerror(errno);
+				std::remove(tmp.c_str());
+				return false;
+			}
+			out.levels.push_back(lm.stats);
+			out.files.push_back(file);
+			if (done)
+				done(out, lm.stats, file);
+			return true;
+		};
+		const gausslod::Result res = gausslod::buildLevels(flat.view(), p, {}, sink);
+		out.seconds = res.totalSeconds;
+		if (!writeError.empty())
+			setError(out, kCannotWrite, "write_failed", writeError);
+		else if (!res.ok)
+			setEngineError(out, res);
+	} catch (const std::bad_alloc &) {
+		setError(out, kNoMemory, "out_of_memory", "out of memory");
+	}
+	return out;
+}
+
+} // namespace cli
+
+namespace {
 
 void usage()
 {
 	std::fprintf(stderr,
 	             "usage: gausslod [options] INPUT OUTDIR\n"
+	             "       gausslod --check [options] INPUT\n"
+	             "       gausslod batch [options] MANIFEST OUTDIR [--part K/N]\n"
 	             "  INPUT: .ply .obj .off .stl triangle mesh; OUTDIR: created if missing\n"
-	             "options (defaults as in the MeshLab filter):\n"
-	             "  --levels N          number of levels, 1..8 (5)\n"
-	             "  --feature-angle D   vertex-class threshold, degrees (30)\n"
-	             "  --straighten P      border straightening tolerance, %% of bbox diagonal (0.5)\n"
-	             "  --merge P           vicinity merge distance, %% of bbox diagonal (0.25)\n"
-	             "  --max-distance P    distance tolerance, %% of bbox diagonal: no removed input\n"
-	             "                      vertex farther from the output (0 = none, the default)\n"
-	             "  --normal-limit F    normal deviation limit, x each level's bound; 0 = none (1)\n"
-	             "  --output-levels L   \"all\" or a comma list of levels to write, 0 = coarsest (all)\n"
-	             "  --paper-superfaces  superfaces within one Gauss-sphere cell only, as in the paper\n"
-	             "                      (default: also merge across cell borders within the bound)\n"
-	             "  --threads N         worker threads, 0 = one per core (0); same output for any N\n"
-	             "  --no-colour         do not colour faces by superface\n"
-	             "  --json              one JSON line per level instead of the table\n"
-	             "exit codes: 0 ok, 1 bad input or failure, 2 bad usage\n");
+	             "  --check: read and check INPUT only (no level is built), same messages and codes\n"
+	             "  batch: one input per MANIFEST line (path, then options); see the README\n"
+	             "%s"
+	             "exit codes: 0 ok, 1 failed, 2 bad usage or parameter, 3 cannot open the input,\n"
+	             "  4 not a readable mesh file, 5 nothing to simplify (no faces, bad coordinates),\n"
+	             "  6 not enough memory, 7 cannot write the output\n",
+	             cli::optionHelp());
 }
 
-bool parseDouble(const char *s, double &out)
+std::string tableRow(const char *label, const gausslod::LevelStats &s, double diag, bool distance)
 {
-	char *end = nullptr;
-	out = std::strtod(s, &end);
-	return end && *end == 0 && end != s;
+	char buf[256], dist[32] = "";
+	if (distance && s.maxDistance >= 0 && diag > 0)
+		std::snprintf(dist, sizeof dist, "  %9.4f", 100.0 * s.maxDistance / diag);
+	else if (distance)
+		std::snprintf(dist, sizeof dist, "  %9s", "null");
+	std::snprintf(buf, sizeof buf, "%-6s %9zu %9zu %10zu %9zu %9.2f %9.2f %9.3f %8.3f%s", label,
+	              s.faces, s.vertices, s.superfaces, s.fallbacks, s.boundDeg, s.maxNormalDevDeg,
+	              s.meanNormalDevDeg, s.seconds, dist);
+	return buf;
 }
 
 } // namespace
@@ -58,185 +381,92 @@ int main(int argc, char **argv)
 #ifdef __GLIBC__
 	// glibc raises its mmap threshold to the size of the largest block freed so far, after which
 	// arrays of a few MB freed between rounds and levels stay in the process: a fixed threshold
-	// gives them back (peak resident memory on a 1M-face mesh 277 -> 235 MB, same time).
+	// gives them back (DESIGN.md, decision 11).
 	mallopt(M_MMAP_THRESHOLD, 4 << 20);
 #endif
-	gausslod::Params params;
-	double straightenPct = 0.5, mergePct = 0.25, maxDistancePct = 0;
-	bool colour = true, json = false;
-	std::string outputLevels = "all";
-	std::string input, outdir;
-	for (int i = 1; i < argc; ++i) {
-		const std::string a = argv[i];
-		auto value = [&](double &v) {
-			if (i + 1 >= argc || !parseDouble(argv[i + 1], v)) {
-				std::fprintf(stderr, "gausslod: %s needs a number\n", a.c_str());
-				std::exit(2);
-			}
-			++i;
-		};
-		double v;
-		if (a == "--levels") {
-			value(v);
-			params.maxLevel = int(v);
-		} else if (a == "--feature-angle") {
-			value(params.featureAngleDeg);
-		} else if (a == "--straighten") {
-			value(straightenPct);
-		} else if (a == "--merge") {
-			value(mergePct);
-		} else if (a == "--max-distance") {
-			value(maxDistancePct);
-		} else if (a == "--normal-limit") {
-			value(params.deviationFactor);
-		} else if (a == "--output-levels") {
-			if (i + 1 >= argc) {
-				std::fprintf(stderr, "gausslod: %s needs a list\n", a.c_str());
-				return 2;
-			}
-			outputLevels = argv[++i];
-		} else if (a == "--paper-superfaces") {
-			params.mergeAcrossCells = false;
-		} else if (a == "--threads") {
-			value(v);
-			params.threads = int(v);
-		} else if (a == "--no-colour") {
-			colour = false;
-		} else if (a == "--json") {
-			json = true;
-		} else if (a == "-h" || a == "--help") {
+	std::vector<std::string> args(argv + 1, argv + argc);
+	if (!args.empty() && args[0] == "batch")
+		return cli::batchMain(std::vector<std::string>(args.begin() + 1, args.end()));
+	bool check = false;
+	for (size_t i = 0; i < args.size(); ++i) {
+		if (args[i] == "-h" || args[i] == "--help") {
 			usage();
 			return 0;
-		} else if (!a.empty() && a[0] == '-') {
-			std::fprintf(stderr, "gausslod: unknown option %s\n", a.c_str());
-			usage();
-			return 2;
-		} else if (input.empty()) {
-			input = a;
-		} else if (outdir.empty()) {
-			outdir = a;
-		} else {
-			usage();
-			return 2;
+		}
+		if (args[i] == "--check") {
+			check = true;
+			args.erase(args.begin() + long(i--));
 		}
 	}
-	if (input.empty() || outdir.empty()) {
+	cli::Options o;
+	std::vector<std::string> positional;
+	std::string error;
+	if (!cli::parseOptions(args, o, positional, error)) {
+		std::fprintf(stderr, "gausslod: %s\n", error.c_str());
 		usage();
-		return 2;
+		return cli::kUsage;
 	}
-	if (outputLevels != "all") { // as the filter's "Output levels"
-		params.levelMask = 0;
-		std::string item;
-		for (size_t p = 0; p <= outputLevels.size(); ++p) {
-			if (p < outputLevels.size() && outputLevels[p] != ',') {
-				item += outputLevels[p];
-				continue;
-			}
-			char *end = nullptr;
-			const long level = std::strtol(item.c_str(), &end, 10);
-			if (item.empty() || *end != 0 || level < 0 || level >= params.maxLevel) {
-				std::fprintf(stderr,
-				             "gausslod: --output-levels: '%s' is not a level index; write \"all\" or "
-				             "a comma list of numbers from 0 (coarsest) to %d (finest)\n",
-				             item.c_str(), params.maxLevel - 1);
-				return 2;
-			}
-			params.levelMask |= 1u << level;
-			item.clear();
+	if (positional.size() != (check ? 1u : 2u)) {
+		usage();
+		return cli::kUsage;
+	}
+	const std::string &input = positional[0];
+	if (check) {
+		const cli::Outcome out = cli::checkOne(input, o);
+		if (out.code != cli::kOk) {
+			std::fprintf(stderr, "gausslod: %s: %s\n", input.c_str(), out.message.c_str());
+			return out.code;
 		}
+		const std::string repairs = cli::repairsText(out.levels[0].input);
+		std::printf("%s: ok: %zu faces, %zu vertices%s%s\n", input.c_str(), out.inputFaces,
+		            out.inputVertices, repairs.empty() ? "" : "; ", repairs.c_str());
+		return 0;
 	}
-	struct stat st;
-	if (stat(input.c_str(), &st) != 0) {
-		std::fprintf(stderr, "gausslod: cannot open %s: no such file\n", input.c_str());
-		return 1;
-	}
-	gausslod::FlatMesh flat;
-	{ // the VCG mesh is freed once flattened (the engine works on the flat arrays)
-		CMesh mesh;
-		std::string error;
-		if (!gausslod::importMesh(mesh, input, error)) {
-			std::fprintf(stderr, "gausslod: cannot read %s: %s\n", input.c_str(), error.c_str());
-			return 1;
+	const std::string &outdir = positional[1];
+	std::string stem = input.substr(input.find_last_of('/') + 1);
+	stem = stem.substr(0, stem.find_last_of('.'));
+	const bool distance = o.maxDistancePct > 0;
+	auto done = [&](const cli::Outcome &sofar, const gausslod::LevelStats &s, const std::string &file) {
+		if (sofar.files.size() == 1 && !o.json) {
+			const std::string repairs = cli::repairsText(s.input);
+			if (!repairs.empty())
+				std::printf("input repairs: %s\n", repairs.c_str());
+			std::printf("%-6s %9s %9s %10s %9s %9s %9s %9s %8s%s\n", "level", "faces", "vertices",
+			            "superfaces", "fallback", "bound", "maxdev", "meandev", "seconds",
+			            distance ? " distbound%" : "");
+			std::printf("%-6s %9zu %9zu %10s %9s %9s %9s %9s %8s%s\n", "input", sofar.inputFaces,
+			            sofar.inputVertices, "-", "-", "-", "-", "-", "-",
+			            distance ? "          -" : "");
 		}
-		flat = gausslod::flatten(mesh);
-	}
-#ifdef __GLIBC__
-	// below 500k faces the freed arrays weigh more in the peak and are cheap to map: a 256 KB
-	// threshold (100k-face mesh: 29.0 -> 27.1-27.4 MB, 0.215 -> 0.222-0.228 s; on a 1M-face mesh a 2 MB
-	// threshold cost 4 % time for no memory gain)
-	if (flat.triangles.size() / 3 < 500000)
-		mallopt(M_MMAP_THRESHOLD, 256 << 10);
-#endif
-	const double diag = gausslod::bboxDiagonal(flat.view());
-	// the distance bound measured by the tolerance check, % of the diagonal ("null" when off)
-	const bool distanceColumn = maxDistancePct > 0;
-	auto distancePct = [&](const gausslod::LevelStats &s) {
-		if (s.maxDistance < 0 || !(diag > 0))
-			return std::string("null");
-		char buf[32];
-		std::snprintf(buf, sizeof buf, "%.4f", 100.0 * s.maxDistance / diag);
-		return std::string(buf);
-	};
-	auto distanceCell = [&](const gausslod::LevelStats &s) {
-		if (!distanceColumn)
-			return std::string();
-		char buf[48];
-		std::snprintf(buf, sizeof buf, "  %9s", distancePct(s).c_str());
-		return std::string(buf);
-	};
-	params.straightenTolerance = straightenPct / 100.0 * diag;
-	params.mergeDistance = mergePct / 100.0 * diag;
-	params.maxDistance = maxDistancePct / 100.0 * diag;
-	std::string name = input.substr(input.find_last_of('/') + 1);
-	name = name.substr(0, name.find_last_of('.'));
-	std::string writeError;
-	bool first = true;
-	// each level is written as soon as it is built, then dropped (one level in memory at a time)
-	auto sink = [&](const gausslod::LevelMesh &lm) {
-		if (first) {
-			first = false;
-			mkdir(outdir.c_str(), 0777);
-			if (!json) {
-				std::printf("%-6s %9s %9s %10s %9s %9s %9s %9s %8s%s\n", "level", "faces", "vertices",
-				            "superfaces", "fallback", "bound", "maxdev", "meandev", "seconds",
-				            distanceColumn ? " distbound%" : "");
-				std::printf("%-6s %9zu %9zu %10s %9s %9s %9s %9s %8s%s\n", "input",
-				            flat.triangles.size() / 3, flat.positions.size() / 3, "-", "-", "-", "-",
-				            "-", "-", distanceColumn ? "          -" : "");
-			}
-		}
-		const gausslod::LevelStats &s = lm.stats;
-		const std::string file = outdir + "/" + name + "_LOD" + std::to_string(s.level) + ".ply";
-		if (!gausslod::writeLevelPly(lm, file, colour, writeError))
-			return false;
-		if (json)
+		const double diag = sofar.diagonal;
+		if (o.json) {
+			// the distance bound measured by the tolerance check, % of the diagonal
+			char dist[32] = "null";
+			if (s.maxDistance >= 0 && diag > 0)
+				std::snprintf(dist, sizeof dist, "%.4f", 100.0 * s.maxDistance / diag);
 			std::printf("{\"level\":%d,\"faces\":%zu,\"vertices\":%zu,\"superfaces\":%zu,"
 			            "\"fallbacks\":%zu,\"retriangulated\":%zu,\"bound_deg\":%.4f,"
 			            "\"max_dev_deg\":%.4f,\"mean_dev_deg\":%.4f,\"unmeasured_faces\":%zu,"
 			            "\"seconds\":%.4f,\"seconds_partition\":%.4f,\"seconds_borders\":%.4f,"
 			            "\"seconds_triangulation\":%.4f,\"seconds_checks\":%.4f,\"rounds\":%d,"
-			            "\"reused_finer\":%s,\"distance_bound_pct\":%s,\"file\":\"%s\"}\n",
+			            "\"reused_finer\":%s,\"distance_bound_pct\":%s,%s,\"file\":%s}\n",
 			            s.level, s.faces, s.vertices, s.superfaces, s.fallbacks, s.retriangulated,
 			            s.boundDeg, s.maxNormalDevDeg, s.meanNormalDevDeg, s.unmeasuredFaces,
 			            s.seconds, s.secondsPartition, s.secondsBorders, s.secondsTriangulation,
-			            s.secondsChecks, s.rounds, s.reusedFiner ? "true" : "false",
-			            distancePct(s).c_str(), file.c_str());
-		else
-			std::printf("LOD%-3d %9zu %9zu %10zu %9zu %9.2f %9.2f %9.3f %8.3f%s\n", s.level, s.faces,
-			            s.vertices, s.superfaces, s.fallbacks, s.boundDeg, s.maxNormalDevDeg,
-			            s.meanNormalDevDeg, s.seconds, distanceCell(s).c_str());
+			            s.secondsChecks, s.rounds, s.reusedFiner ? "true" : "false", dist,
+			            cli::repairsJson(s.input).c_str(), cli::jsonString(file).c_str());
+		} else {
+			const std::string label = "LOD" + std::to_string(s.level);
+			std::printf("%s\n", tableRow(label.c_str(), s, diag, distance).c_str());
+		}
 		std::fflush(stdout);
-		return true;
 	};
-	const gausslod::Result res = gausslod::buildLevels(flat.view(), params, {}, sink);
-	if (!res.ok) {
-		if (writeError.empty())
-			std::fprintf(stderr, "gausslod: %s: %s\n", input.c_str(), res.error.c_str());
-		else
-			std::fprintf(stderr, "gausslod: %s\n", writeError.c_str());
-		return 1;
+	const cli::Outcome out = cli::runOne(input, outdir, stem, o, done);
+	if (out.code != cli::kOk) {
+		std::fprintf(stderr, "gausslod: %s: %s\n", input.c_str(), out.message.c_str());
+		return out.code;
 	}
-	if (!json)
-		std::printf("total %.3f s; files in %s\n", res.totalSeconds, outdir.c_str());
+	if (!o.json)
+		std::printf("total %.3f s; files in %s\n", out.seconds, outdir.c_str());
 	return 0;
 }

@@ -34,7 +34,8 @@ void expectInvariants(const FlatMesh &in, const TopoFacts &inFacts, const LevelM
 	EXPECT_EQ(f.degenerateFaces, 0u);
 	EXPECT_EQ(f.duplicateFaces, 0u);
 	EXPECT_EQ(f.nonManifoldEdges, inFacts.nonManifoldEdges);
-	EXPECT_EQ(f.nonManifoldVertices, inFacts.nonManifoldVertices);
+	// (no new one; a pinch whose two fans both end up inside superfaces opens: the welded cow's)
+	EXPECT_LE(f.nonManifoldVertices, inFacts.nonManifoldVertices);
 	EXPECT_EQ(f.inconsistentEdges, inFacts.inconsistentEdges);
 	EXPECT_EQ(f.boundaryLoops, inFacts.boundaryLoops);
 	EXPECT_EQ(f.components, inFacts.components);
@@ -114,7 +115,9 @@ TEST(Levels, real_models_keep_every_invariant_at_every_level)
 	for (const char *name : {"cow.off", "fandisk.off", "bunny00.off"}) {
 		SCOPED_TRACE(name);
 		const FlatMesh m = loadOff(name);
-		const TopoFacts inFacts = topoFacts(m.positions, m.triangles);
+		// (the levels are made on the welded input: cow.off has a vertex twice)
+		const FlatMesh welded = weldedCopy(m);
+		const TopoFacts inFacts = topoFacts(welded.positions, welded.triangles);
 		const Result r = buildLevels(m.view(), defaultParams(m));
 		ASSERT_TRUE(r.ok) << r.error;
 		ASSERT_EQ(r.levels.size(), 5u);

@@ -51,6 +51,24 @@ inline gausslod::FlatMesh loadOff(const std::string &name)
 	return gausslod::flatten(m);
 }
 
+/// `m` with the faces moved to the first vertex at each exact position (what welding on read
+/// should give; written independently of the engine's hash table, with a sorted map).
+inline gausslod::FlatMesh weldedCopy(const gausslod::FlatMesh &m)
+{
+	gausslod::FlatMesh out = m;
+	std::map<std::array<double, 3>, int32_t> first;
+	std::vector<int32_t> rep(m.positions.size() / 3);
+	for (size_t v = 0; v < rep.size(); ++v) {
+		std::array<double, 3> p = {m.positions[3 * v] + 0.0, m.positions[3 * v + 1] + 0.0,
+		                           m.positions[3 * v + 2] + 0.0};
+		const bool finite = std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+		rep[v] = finite ? first.emplace(p, int32_t(v)).first->second : int32_t(v);
+	}
+	for (int32_t &v : out.triangles)
+		v = rep[size_t(v)];
+	return out;
+}
+
 /// Axis-aligned cube [0,size]^3, each face an n x n grid of quads split in two, shared vertices.
 inline gausslod::FlatMesh gridCube(int n, double size = 1.0, double noise = 0.0, unsigned seed = 1)
 {

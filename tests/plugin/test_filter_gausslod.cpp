@@ -229,8 +229,8 @@ TEST_F(GaussLodPlugin, declares_itself_as_a_single_mesh_remeshing_filter)
 	const RichParameterList par = defaults(md);
 	const QStringList expected = {"maxLevel",      "outputLevels", "featureAngle",
 	                              "straightenTol", "mergeDist",    "maxDistance",
-	                              "normalLimit",   "acrossCells",  "colourSuperfaces",
-	                              "fauxEdges"};
+	                              "normalLimit",   "acrossCells",  "weldVertices",
+	                              "weldDistance",  "colourSuperfaces", "fauxEdges"};
 	EXPECT_EQ(par.size(), unsigned(expected.size()));
 	for (const QString &name : expected)
 		EXPECT_TRUE(par.hasParameter(name)) << qUtf8Printable(name);

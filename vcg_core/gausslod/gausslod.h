@@ -18,8 +18,11 @@
 //  - a superface that cannot be re-triangulated validly (its projection folds or its border would
 //    self-intersect) is split back into its children of the next finer level, down to the input
 //    faces if need be; how often that happened is reported in LevelStats::fallbacks.
-// Errors (empty input, index out of range, non-finite coordinates, bad parameters) are reported in
-// Result::error with ok == false; no exception escapes buildLevels().
+//  - no silent loss: every input face that is not skipped (a repeated vertex index, a repeat of
+//    an earlier face: counted in LevelStats::input) is covered by an output triangle of its
+//    superface; a level that would break this is an error, never a result.
+// Errors (empty input, index out of range, non-finite coordinates, every face skipped, bad
+// parameters) are reported in Result::error with ok == false; no exception escapes buildLevels().
 #pragma once
 
 #include <cstdint>
@@ -74,10 +77,32 @@ struct Params {
 	/// Worker threads for the per-superface work; 0 = one per core (at most 64). The output does
 	/// not depend on it.
 	int threads = 0;
+	/// Input repair, as MeshLab does to STL files on import: vertices at exactly the same position
+	/// become one (the first in index order), so that a triangle soup (STL, most CAD and BIM
+	/// exports) is simplified like the welded mesh. Faces then refer to that first vertex; the
+	/// positions array is not changed. false = vertices are joined only by shared indices.
+	bool weldVertices = true;
+	/// With weldVertices: a vertex within this distance (absolute) of an earlier vertex that was
+	/// kept becomes that vertex (the lowest index among them); every welded vertex is within this
+	/// distance of the vertex it became (no chains). 0 = exactly equal positions only.
+	double weldDistance = 0.0;
 };
 
 /// Convenience: tolerances given as a fraction of the bounding-box diagonal.
 double bboxDiagonal(const MeshView &mesh);
+
+/// What was repaired, skipped or locked in the input (the same for every level).
+struct InputStats {
+	size_t weldedVertices = 0;      ///< vertices welded into an earlier one (Params::weldVertices)
+	size_t facesReindexed = 0;      ///< faces that referred to a welded vertex (indices repaired)
+	size_t facesRepeatedVertex = 0; ///< skipped: a vertex index repeated (after welding)
+	size_t facesDuplicate = 0;      ///< skipped: repeats an earlier face (same vertices and
+	                                ///< orientation; a reversed copy is kept)
+	size_t facesDegenerate = 0;     ///< kept as they are, never merged: zero area, no normal
+	size_t verticesLocked = 0;      ///< never moved or removed: on non-manifold or inconsistently
+	                                ///< oriented edges, non-manifold vertices, degenerate faces
+	size_t facesSkipped() const { return facesRepeatedVertex + facesDuplicate; }
+};
 
 struct LevelStats {
 	int level = 0;               ///< Gauss-sphere level i (cells 3^i x 3^i per cube face)
@@ -107,6 +132,7 @@ struct LevelStats {
 	bool reusedFiner = false;    ///< the merged partition gave more faces than the next finer
 	                             ///< level: this level is that level's mesh (face counts stay
 	                             ///< monotone; the finer level keeps this level's bound too)
+	InputStats input;            ///< what this level's input repairs were (Result::input)
 };
 
 struct LevelMesh {
@@ -121,10 +147,21 @@ struct LevelMesh {
 	LevelStats stats;
 };
 
+enum class ErrorKind {
+	None,         ///< ok
+	BadParameter, ///< a Params value out of range
+	BadInput,     ///< the mesh: no faces, a bad index, a non-finite coordinate, every face skipped
+	OutOfMemory,  ///< an allocation failed (nothing is half-built)
+	Cancelled,    ///< the progress callback or the sink asked to stop
+	Internal      ///< a guarantee could not be kept (a bug: please report the input)
+};
+
 struct Result {
 	bool ok = false;
 	std::string error;              ///< set when ok == false: what is wrong with the input
+	ErrorKind errorKind = ErrorKind::None;
 	std::vector<LevelMesh> levels;  ///< the requested levels, finest first (level maxLevel-1 .. 0)
+	InputStats input;               ///< input repairs (set once the input is validated)
 	double totalSeconds = 0;
 };
 
@@ -140,6 +177,10 @@ using LevelSink = std::function<bool(const LevelMesh &level)>;
 /// levels' stats (empty geometry), so that peak memory holds one level instead of all of them.
 Result buildLevels(const MeshView &mesh, const Params &params, const Progress &progress = {},
                    const LevelSink &sink = {});
+
+/// Checks the parameters and the mesh as buildLevels does before it builds any level (welding
+/// included): the same error and kind, and Result::input; no level is built.
+Result checkInput(const MeshView &mesh, const Params &params);
 
 /// The paper's bound on the normal deviation inside one Gauss-sphere cell of level i, in degrees.
 double levelBoundDeg(int level);

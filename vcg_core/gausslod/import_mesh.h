@@ -56,6 +56,30 @@ private:
 
 } // namespace detail
 
+enum class ReadStatus { Ok = 0, CannotOpen, Empty, WrongFormat, Corrupt, TooLarge };
+struct ReadError {
+	ReadStatus status = ReadStatus::Ok;
+	std::string message;
+};
+inline const char *readStatusName(ReadStatus s)
+{
+	static const char *const names[] = {"ok", "cannot_open", "empty", "wrong_format", "corrupt",
+	                                    "too_large"};
+	return names[int(s)];
+}
+
+template <class MeshT>
+bool importMesh(MeshT &m, const std::string &path, std::string &error);
+
+template <class MeshT>
+bool importMesh(MeshT &m, const std::string &path, ReadError &error)
+{
+	if (importMesh(m, path, error.message))
+		return true;
+	error.status = ReadStatus::Corrupt;
+	return false;
+}
+
 /// Loads `path` into `m`. Returns false with `error` set if the file cannot be read.
 template <class MeshT>
 bool importMesh(MeshT &m, const std::string &path, std::string &error)

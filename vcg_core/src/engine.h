@@ -255,6 +255,11 @@ struct Partition {
 inline int8_t mergedOrigin(int level) { return int8_t(-2 - level); }
 inline int mergedLevel(int8_t origin) { return -2 - origin; } ///< for origin <= -2
 
+/// Input repair: rep[v] = the vertex v is welded into (v itself if none): the lowest-index vertex
+/// at exactly v's position (distance 0) or, for distance > 0, the lowest-index kept vertex within
+/// that distance. Non-finite positions are never welded. Returns how many vertices were welded.
+size_t weldVertices(const MeshView &mesh, double distance, std::vector<int32_t> &rep);
+
 /// Builds Topology from the input (validated by the caller). featureAngleDeg: 2.3.2 threshold.
 /// withGrid = false leaves topo.grid to buildFaceGrid (which only writes topo.grid: it may run
 /// on another thread while the partition is built).

@@ -31,7 +31,7 @@ double bboxDiagonal(const MeshView &m)
 
 namespace {
 
-std::string validate(const MeshView &m, const Params &p)
+std::string validateParams(const Params &p)
 {
 	if (p.maxLevel < 1 || p.maxLevel > kMaxCellLevel + 1)
 		return "number of levels must be between 1 and " + std::to_string(kMaxCellLevel + 1);
@@ -45,8 +45,15 @@ std::string validate(const MeshView &m, const Params &p)
 		return "vicinity merge distance must be a finite value >= 0";
 	if (!(p.maxDistance >= 0 && std::isfinite(p.maxDistance)))
 		return "distance tolerance must be a finite value >= 0";
+	if (!(p.weldDistance >= 0 && std::isfinite(p.weldDistance)))
+		return "weld distance must be a finite value >= 0";
 	if (p.threads < 0)
 		return "number of threads must be >= 0 (0 = one per core)";
+	return {};
+}
+
+std::string validateMesh(const MeshView &m)
+{
 	if (m.faceCount == 0 || m.triangles == nullptr)
 		return "the mesh has no faces (GaussLOD needs a triangle mesh, not a point cloud)";
 	if (m.vertexCount >= size_t(INT32_MAX) || m.faceCount >= size_t(INT32_MAX) / 3)
@@ -64,36 +71,145 @@ std::string validate(const MeshView &m, const Params &p)
 	return {};
 }
 
+// Input stats that the topology knows (skipped, degenerate, locked); welding is counted before.
+void countRepairs(const MeshView &m, const detail::Topology &t, InputStats &in)
+{
+	size_t dropped = 0;
+	for (size_t f = 0; f < t.nF; ++f) {
+		if (t.faceDropped[f]) {
+			const int32_t *v = m.triangles + 3 * f;
+			++dropped;
+			in.facesRepeatedVertex += v[0] == v[1] || v[1] == v[2] || v[0] == v[2];
+		} else {
+			in.facesDegenerate += !t.faceValid[f];
+		}
+	}
+	in.facesDuplicate = dropped - in.facesRepeatedVertex;
+	for (uint8_t l : t.vertexLocked)
+		in.verticesLocked += l;
+}
+
+// No silent loss: the input faces (not skipped) whose superface has no output triangle.
+size_t uncoveredFaces(const detail::Topology &t, const LevelMesh &lm)
+{
+	std::vector<uint8_t> covered(lm.stats.superfaces, 0);
+	for (int32_t sf : lm.superface)
+		if (sf >= 0 && size_t(sf) < covered.size())
+			covered[size_t(sf)] = 1;
+	size_t lost = 0;
+	for (size_t f = 0; f < t.nF; ++f) {
+		const int32_t sf = f < lm.inputSuperface.size() ? lm.inputSuperface[f] : -1;
+		lost += !t.faceDropped[f] && (sf < 0 || size_t(sf) >= covered.size() || !covered[size_t(sf)]);
+	}
+	return lost;
+}
+
 double since(std::chrono::steady_clock::time_point t0)
 {
 	return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+bool fail(Result &res, ErrorKind kind, std::string error)
+{
+	res.ok = false;
+	res.errorKind = kind;
+	res.error = std::move(error);
+	res.levels.clear();
+	return false;
+}
+
+// Welds the input (Params::weldVertices): `mesh` then refers to `welded`, the repaired triangles.
+void weldInput(const MeshView &input, const Params &params, MeshView &mesh,
+               std::vector<int32_t> &welded, InputStats &stats)
+{
+	mesh = input;
+	if (!params.weldVertices)
+		return;
+	std::vector<int32_t> rep;
+	stats.weldedVertices = detail::weldVertices(input, params.weldDistance, rep);
+	if (stats.weldedVertices == 0)
+		return;
+	welded.resize(3 * input.faceCount);
+	for (size_t f = 0; f < input.faceCount; ++f) {
+		bool changed = false;
+		for (size_t k = 0; k < 3; ++k) {
+			const int32_t v = input.triangles[3 * f + k];
+			welded[3 * f + k] = rep[size_t(v)];
+			changed |= rep[size_t(v)] != v;
+		}
+		stats.facesReindexed += changed;
+	}
+	mesh.triangles = welded.data();
+}
+
+// What buildLevels and checkInput share: validation, welding, topology, input repairs.
+bool prepare(const MeshView &input, const Params &params, Result &res, MeshView &mesh,
+             std::vector<int32_t> &welded, detail::Topology &topo, size_t threads)
+{
+	std::string error = validateParams(params);
+	if (!error.empty())
+		return fail(res, ErrorKind::BadParameter, error);
+	error = validateMesh(input);
+	if (!error.empty())
+		return fail(res, ErrorKind::BadInput, error);
+	weldInput(input, params, mesh, welded, res.input);
+	detail::buildTopology(mesh, params.featureAngleDeg, topo, threads, false);
+	countRepairs(mesh, topo, res.input);
+	if (res.input.facesSkipped() == mesh.faceCount)
+		return fail(res, ErrorKind::BadInput,
+		            "every face repeats a vertex or an earlier face (" +
+		                std::to_string(res.input.facesRepeatedVertex) + " with a repeated vertex, " +
+		                std::to_string(res.input.facesDuplicate) + " repeated): nothing to simplify");
+	return true;
+}
+
+template <class Fn>
+Result guarded(Result &res, Fn fn)
+{
+	try {
+		if (fn())
+			res.ok = true;
+	} catch (const std::bad_alloc &) {
+		fail(res, ErrorKind::OutOfMemory, "out of memory");
+	} catch (const std::exception &e) {
+		fail(res, ErrorKind::Internal, std::string("internal error: ") + e.what());
+	}
+	return std::move(res);
+}
+
 } // namespace
 
-Result buildLevels(const MeshView &mesh, const Params &params, const Progress &progress,
+Result checkInput(const MeshView &input, const Params &params)
+{
+	Result res;
+	return guarded(res, [&] {
+		MeshView mesh;
+		std::vector<int32_t> welded;
+		detail::Topology topo;
+		return prepare(input, params, res, mesh, welded, topo, detail::threadCount(params.threads));
+	});
+}
+
+Result buildLevels(const MeshView &input, const Params &params, const Progress &progress,
                    const LevelSink &sink)
 {
 	using namespace detail;
 	Result res;
 	const auto t0 = std::chrono::steady_clock::now();
-	res.error = validate(mesh, params);
-	if (!res.error.empty())
-		return res;
 	auto report = [&](double frac, const char *stage) {
-		if (progress && !progress(frac, stage)) {
-			res.error = "cancelled";
-			res.levels.clear();
-			return false;
-		}
+		if (progress && !progress(frac, stage))
+			return fail(res, ErrorKind::Cancelled, "cancelled");
 		return true;
 	};
-	try {
-		Topology topo;
+	return guarded(res, [&] {
 		if (!report(0.0, "adjacency and vertex classes"))
-			return res;
+			return false;
+		MeshView mesh;
+		std::vector<int32_t> welded; // the triangles on welded vertices (only if any was welded)
+		Topology topo;
 		const size_t threads = threadCount(params.threads);
-		buildTopology(mesh, params.featureAngleDeg, topo, threads, false);
+		if (!prepare(input, params, res, mesh, welded, topo, threads))
+			return false;
 		const int finest = params.maxLevel - 1;
 		const bool across = params.mergeAcrossCells;
 		// cross-cell unions: normals within the level's bound of each other, and never across a
@@ -120,7 +236,7 @@ Result buildLevels(const MeshView &mesh, const Params &params, const Progress &p
 		for (int level = finest; level >= 0; --level) {
 			const auto tl = std::chrono::steady_clock::now();
 			if (!report(0.05 + 0.95 * double(finest - level) / params.maxLevel, "building level"))
-				return res;
+				return false;
 			if (level < finest) {
 				coarserPartition(topo, parts[size_t(level) + 1], parts[size_t(level)], int8_t(level));
 				if (across)
@@ -157,12 +273,15 @@ Result buildLevels(const MeshView &mesh, const Params &params, const Progress &p
 				lm.stats.reusedFiner = true;
 			}
 			lm.stats.seconds = since(tl) + (level == finest ? setup : 0.0);
+			lm.stats.input = res.input;
+			if (const size_t lost = uncoveredFaces(topo, lm))
+				return fail(res, ErrorKind::Internal,
+				            "internal error: level " + std::to_string(level) + " lost the surface of " +
+				                std::to_string(lost) +
+				                " input faces (no output triangle for their superface)");
 			const bool wanted = params.levelMask & (1u << level);
-			if (wanted && sink && !sink(lm)) {
-				res.error = "cancelled";
-				res.levels.clear();
-				return res;
-			}
+			if (wanted && sink && !sink(lm))
+				return fail(res, ErrorKind::Cancelled, "cancelled");
 			if (wanted && !sink) {
 				res.levels.push_back(lm);
 			} else if (wanted) {
@@ -176,19 +295,10 @@ Result buildLevels(const MeshView &mesh, const Params &params, const Progress &p
 			std::vector<int32_t>().swap(finer.inputSuperface);
 		}
 		if (!report(1.0, "done"))
-			return res;
-	} catch (const std::bad_alloc &) {
-		res.levels.clear();
-		res.error = "out of memory";
-		return res;
-	} catch (const std::exception &e) {
-		res.levels.clear();
-		res.error = std::string("internal error: ") + e.what();
-		return res;
-	}
-	res.ok = true;
-	res.totalSeconds = since(t0);
-	return res;
+			return false;
+		res.totalSeconds = since(t0);
+		return true;
+	});
 }
 
 } // namespace gausslod

@@ -1,0 +1,288 @@
+// gausslod batch [options] MANIFEST OUTDIR [--part K/N]
+//
+// One input per manifest line: a path (relative paths from the manifest's folder; "double
+// quotes" for blanks), then options for that input only (after the command line's options).
+// Blank lines and lines starting with # are skipped. Levels go to OUTDIR/<path without its
+// extension>_LOD<i>.ply (the path as written, ".." as "__", a leading / dropped), and a
+// record of the outcome to OUTDIR/<path without its extension>.gausslod.json.
+//
+// Idempotent: an input whose record says ok for the same file (size, time) and options is not
+// redone (its record is printed again, "cached": true); level files are written under a
+// temporary name and renamed, and the record is written last, so that a killed run leaves no
+// half file under a final name and its unfinished input is redone next time. --part K/N takes
+// the manifest's data lines i with i % N == K (for GNU parallel and Slurm array jobs): every
+// part reads the whole manifest, so output names are checked for clashes the same way in all.
+// Prints one JSON line per input; exit 0 if every input of the part is ok, 1 if any failed.
+#include "cli.h"
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <dirent.h>
+
+namespace cli {
+
+namespace {
+
+struct Line {
+	size_t number = 0;            ///< in the manifest file, from 1
+	std::vector<std::string> tok; ///< path, then options
+	std::string error;            ///< a quoting error
+};
+
+// Splits on blanks; "..." groups (no escapes inside).
+Line tokenize(const std::string &text, size_t number)
+{
+	Line l;
+	l.number = number;
+	std::string cur;
+	bool in = false, quoted = false;
+	for (const char c : text) {
+		if (quoted) {
+			if (c == '"')
+				quoted = false;
+			else
+				cur += c;
+		} else if (c == '"') {
+			quoted = in = true;
+		} else if (c == ' ' || c == '\t' || c == '\r') {
+			if (in)
+				l.tok.push_back(cur), cur.clear();
+			in = false;
+		} else {
+			cur += c, in = true;
+		}
+	}
+	if (quoted)
+		l.error = "a \" is not closed";
+	if (in)
+		l.tok.push_back(cur);
+	return l;
+}
+
+// The output path of an input (without _LOD<i>.ply): its path as written, extension dropped.
+std::string outputStem(const std::string &path)
+{
+	std::string out;
+	size_t i = 0;
+	while (i < path.size()) {
+		size_t j = path.find('/', i);
+		if (j == std::string::npos)
+			j = path.size();
+		const std::string part = path.substr(i, j - i);
+		if (!part.empty() && part != ".")
+			out += (out.empty() ? "" : "/") + (part == ".." ? std::string("__") : part);
+		i = j + 1;
+	}
+	const size_t slash = out.find_last_of('/'), dot = out.find_last_of('.');
+	if (dot != std::string::npos && (slash == std::string::npos || dot > slash) && dot > 0 &&
+	    dot != slash + 1)
+		out.erase(dot);
+	return out;
+}
+
+std::string readFile(const std::string &file)
+{
+	std::ifstream in(file, std::ios::binary);
+	std::ostringstream s;
+	s << in.rdbuf();
+	return s.str();
+}
+
+bool writeAtomically(const std::string &file, const std::string &text)
+{
+	const std::string tmp = file + ".part-" + std::to_string(getpid());
+	{
+		std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+		out << text;
+		if (!out.flush())
+			return false;
+	}
+	return std::rename(tmp.c_str(), file.c_str()) == 0;
+}
+
+// Removes what a killed run left of `stem`: OUTDIR/<dir>/.<name>_LOD*.part-* and the record's.
+void removeParts(const std::string &stemPath)
+{
+	const size_t slash = stemPath.find_last_of('/');
+	const std::string dir = stemPath.substr(0, slash), name = stemPath.substr(slash + 1);
+	DIR *d = opendir(dir.c_str());
+	if (!d)
+		return;
+	const std::string level = "." + name + "_LOD", record = name + ".gausslod.json.part-";
+	while (const dirent *e = readdir(d)) {
+		const std::string n = e->d_name;
+		if ((n.compare(0, level.size(), level) == 0 && n.find(".part-") != std::string::npos) ||
+		    n.compare(0, record.size(), record) == 0)
+			std::remove((dir + "/" + n).c_str());
+	}
+	closedir(d);
+}
+
+std::string levelsJson(const Outcome &o)
+{
+	std::string s = "[";
+	for (size_t i = 0; i < o.levels.size(); ++i) {
+		char buf[160];
+		const gausslod::LevelStats &l = o.levels[i];
+		std::snprintf(buf, sizeof buf,
+		              "{\"level\":%d,\"faces\":%zu,\"vertices\":%zu,\"max_dev_deg\":%.4f,\"file\":",
+		              l.level, l.faces, l.vertices, l.maxNormalDevDeg);
+		s += (i ? "," : "") + std::string(buf) + jsonString(o.files[i]) + "}";
+	}
+	return s + "]";
+}
+
+std::string resultJson(const Line &l, const std::string &input, const Outcome &o,
+                       const std::string &signature)
+{
+	char buf[200];
+	std::string s = "{\"line\":" + std::to_string(l.number) + ",\"input\":" + jsonString(input) +
+	                ",\"status\":" + (o.code == kOk ? "\"ok\"" : "\"error\"") +
+	                ",\"code\":" + std::to_string(o.code) + ",\"kind\":" + jsonString(o.kind);
+	if (o.code != kOk)
+		return s + ",\"message\":" + jsonString(o.message) + ",\"cached\":false}";
+	std::snprintf(buf, sizeof buf, ",\"faces\":%zu,\"vertices\":%zu,\"seconds\":%.4f,",
+	              o.inputFaces, o.inputVertices, o.seconds);
+	s += buf;
+	if (!o.levels.empty())
+		s += repairsJson(o.levels[0].input) + ",";
+	return s + "\"levels\":" + levelsJson(o) + ",\"signature\":" + jsonString(signature) +
+	       ",\"cached\":false}";
+}
+
+// Every option value that changes the files (not --threads: the output does not depend on it).
+std::string optionsKey(const Options &o)
+{
+	const gausslod::Params &p = o.params;
+	char buf[320];
+	std::snprintf(buf, sizeof buf, "levels=%d out=%s angle=%.17g straighten=%.17g merge=%.17g "
+	                               "maxdist=%.17g limit=%.17g across=%d weld=%d welddist=%.17g colour=%d",
+	              p.maxLevel, o.outputLevels.c_str(), p.featureAngleDeg, o.straightenPct, o.mergePct,
+	              o.maxDistancePct, p.deviationFactor, int(p.mergeAcrossCells), int(p.weldVertices),
+	              o.weldPct, int(o.colour));
+	return buf;
+}
+
+int batchUsage(const std::string &why)
+{
+	std::fprintf(stderr, "gausslod batch: %s\nusage: gausslod batch [options] MANIFEST OUTDIR "
+	                     "[--part K/N]\n",
+	             why.c_str());
+	return kUsage;
+}
+
+} // namespace
+
+int batchMain(const std::vector<std::string> &argsIn)
+{
+	std::vector<std::string> args;
+	size_t part = 0, parts = 1;
+	for (size_t i = 0; i < argsIn.size(); ++i) {
+		if (argsIn[i] != "--part") {
+			args.push_back(argsIn[i]);
+			continue;
+		}
+		unsigned long k = 0, n = 0;
+		char extra = 0;
+		if (i + 1 >= argsIn.size() ||
+		    std::sscanf(argsIn[i + 1].c_str(), "%lu/%lu%c", &k, &n, &extra) != 2 || n == 0 || k >= n)
+			return batchUsage("--part needs K/N with 0 <= K < N");
+		part = k, parts = n, ++i;
+	}
+	Options global;
+	std::vector<std::string> positional;
+	std::string error;
+	if (!parseOptions(args, global, positional, error))
+		return batchUsage(error);
+	if (positional.size() != 2)
+		return batchUsage("needs MANIFEST and OUTDIR");
+	const std::string manifest = positional[0], outdir = positional[1];
+	std::ifstream in(manifest);
+	if (!in) {
+		std::fprintf(stderr, "gausslod batch: cannot open the manifest %s\n", manifest.c_str());
+		return kCannotOpen;
+	}
+	const size_t slash = manifest.find_last_of('/');
+	const std::string base = slash == std::string::npos ? "" : manifest.substr(0, slash + 1);
+
+	std::vector<Line> lines;
+	std::string text;
+	for (size_t number = 1; std::getline(in, text); ++number) {
+		Line l = tokenize(text, number);
+		if (l.error.empty() && (l.tok.empty() || l.tok[0][0] == '#'))
+			continue;
+		lines.push_back(std::move(l));
+	}
+	std::map<std::string, size_t> firstLine; // output stem -> manifest line (the whole manifest)
+	size_t ok = 0, cached = 0, failed = 0;
+	const auto t0 = std::chrono::steady_clock::now();
+	for (size_t i = 0; i < lines.size(); ++i) {
+		const Line &l = lines[i];
+		const std::string path = l.tok.empty() ? "" : l.tok[0];
+		const std::string stem = outputStem(path);
+		const auto first = firstLine.emplace(stem, l.number);
+		if (i % parts != part)
+			continue;
+		const std::string input = !path.empty() && path[0] == '/' ? path : base + path;
+		Outcome out;
+		Options o = global;
+		std::vector<std::string> extra;
+		std::vector<std::string> lineArgs(l.tok.size() > 1 ? l.tok.begin() + 1 : l.tok.end(),
+		                                  l.tok.end());
+		if (!l.error.empty())
+			out.code = kUsage, out.kind = "bad_line", out.message = l.error;
+		else if (stem.empty())
+			out.code = kUsage, out.kind = "bad_line", out.message = "no input file name";
+		else if (!first.second)
+			out.code = kUsage, out.kind = "bad_line",
+			out.message = "its output name " + stem + " is line " +
+			              std::to_string(first.first->second) + "'s too";
+		else if (!parseOptions(lineArgs, o, extra, error) || !extra.empty())
+			out.code = kUsage, out.kind = "bad_line",
+			out.message = extra.empty() ? error : "unexpected argument " + extra[0];
+		const std::string stemPath = outdir + "/" + stem, record = stemPath + ".gausslod.json";
+		std::string signature;
+		struct stat st;
+		if (out.code == kOk && stat(input.c_str(), &st) == 0) {
+			signature = std::to_string(st.st_size) + ":" + std::to_string(st.st_mtim.tv_sec) + "." +
+			            std::to_string(st.st_mtim.tv_nsec) + ":" + optionsKey(o);
+			const std::string previous = readFile(record);
+			if (previous.find("\"status\":\"ok\"") != std::string::npos &&
+			    previous.find("\"signature\":" + jsonString(signature)) != std::string::npos) {
+				std::string again = previous.substr(0, previous.find_last_not_of("\n") + 1);
+				again.replace(again.rfind("\"cached\":false"), 14, "\"cached\":true");
+				std::printf("%s\n", again.c_str());
+				std::fflush(stdout);
+				++ok, ++cached;
+				continue;
+			}
+		}
+		if (out.code == kOk) {
+			const size_t cut = stemPath.find_last_of('/');
+			removeParts(stemPath);
+			out = runOne(input, stemPath.substr(0, cut), stemPath.substr(cut + 1), o, {});
+		}
+		const std::string json = resultJson(l, path, out, signature);
+		if (out.code == kOk && !writeAtomically(record, json + "\n"))
+			out.code = kCannotWrite, out.kind = "write_failed",
+			out.message = "cannot write " + record + ": " + std::strerror(errno);
+		std::printf("%s\n", out.code == kOk ? json.c_str() : resultJson(l, path, out, "").c_str());
+		std::fflush(stdout);
+		(out.code == kOk ? ok : failed) += 1;
+	}
+	const double secs =
+	    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	std::fprintf(stderr, "gausslod batch: part %zu/%zu: %zu ok (%zu already done), %zu failed, %.2f s\n",
+	             part, parts, ok, cached, failed, secs);
+	return failed ? kFailed : kOk;
+}
+
+} // namespace cli

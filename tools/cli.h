@@ -1,0 +1,74 @@
+// The gausslod tool's pieces shared by its two modes, one file (gausslod_cli.cpp) and a manifest
+// of files (batch.cpp): options, reading, running the engine, writing levels atomically.
+#pragma once
+
+#include "gausslod/gausslod.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace cli {
+
+/// Exit codes (README, "Accepted input and errors").
+enum Exit {
+	kOk = 0,
+	kFailed = 1,      ///< the engine failed (internal error); batch: some input failed
+	kUsage = 2,       ///< bad command line or parameter value
+	kCannotOpen = 3,  ///< the input is missing, not a file, or not readable
+	kUnreadable = 4,  ///< not a mesh file we can read: empty, wrong format, truncated, corrupt
+	kUnusable = 5,    ///< read, but nothing to simplify: no faces, bad coordinates, all degenerate
+	kNoMemory = 6,    ///< the file needs more memory than there is
+	kCannotWrite = 7, ///< an output file could not be written
+};
+
+struct Options {
+	gausslod::Params params; ///< distances are set per mesh from the percentages below
+	double straightenPct = 0.5, mergePct = 0.25, maxDistancePct = 0, weldPct = 0;
+	bool colour = true;
+	bool json = false;
+	std::string outputLevels = "all";
+};
+
+/// Parses option tokens into `o` (later tokens override earlier ones); tokens that are not
+/// options go to `positional`. False with `error` set on a bad option or value.
+bool parseOptions(const std::vector<std::string> &args, Options &o,
+                  std::vector<std::string> &positional, std::string &error);
+/// The option summary of the usage text.
+const char *optionHelp();
+
+/// One input's outcome.
+struct Outcome {
+	int code = kOk;
+	std::string kind = "ok"; ///< ok, or the error's kind (cannot_open, corrupt, bad_input, ...)
+	std::string message;     ///< one line, without the file name
+	size_t inputFaces = 0, inputVertices = 0;
+	double diagonal = 0; ///< of the input's bounding box
+	std::vector<gausslod::LevelStats> levels;
+	std::vector<std::string> files;
+	double seconds = 0;
+};
+
+/// Called for each level once its file is in place (file = its final name).
+using LevelDone = std::function<void(const Outcome &sofar, const gausslod::LevelStats &,
+                                     const std::string &file)>;
+
+/// Reads `input`, builds its levels and writes OUTDIR/<stem>_LOD<i>.ply for each requested
+/// level: each written under a temporary name in OUTDIR and renamed, so that no half-written
+/// level ever carries the final name. OUTDIR is created (with its parents) if missing.
+Outcome runOne(const std::string &input, const std::string &outdir, const std::string &stem,
+               const Options &o, const LevelDone &done);
+
+/// Reads and checks `input` as runOne does, without building levels.
+Outcome checkOne(const std::string &input, const Options &o);
+
+/// `s` as a JSON string literal (quotes included).
+std::string jsonString(const std::string &s);
+/// The input repairs as JSON members (no braces), and as one line of text ("" if none).
+std::string repairsJson(const gausslod::InputStats &in);
+std::string repairsText(const gausslod::InputStats &in);
+
+/// `gausslod batch ...` (args after the word batch).
+int batchMain(const std::vector<std::string> &args);
+
+} // namespace cli
