@@ -75,12 +75,15 @@ expect() { # NAME CODE TEXT ARGS...
 printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n' >"$work/points.ply"
 expect no_args 2 "usage:"
 expect unknown_option 2 "unknown option" --frobnicate "$data/cow.off" "$work/x"
-expect bad_levels 1 "number of levels must be between" --levels 0 "$data/cow.off" "$work/x"
-expect bad_distance 1 "distance tolerance must be" --max-distance -1 "$data/cow.off" "$work/x"
+expect bad_levels 2 "number of levels must be between" --levels 0 "$data/cow.off" "$work/x"
+expect bad_distance 2 "percentages of the bounding-box diagonal" --max-distance -1 "$data/cow.off" "$work/x"
 expect bad_output_levels 2 "is not a level index" --output-levels 9 "$data/cow.off" "$work/x"
-expect missing_input 1 "no such file" "$work/nothing.ply" "$work/x"
-expect point_cloud 1 "no faces" "$work/points.ply" "$work/x"
-expect unwritable 1 "cannot write" "$data/cow.off" /proc/gausslod-cannot-write-here
+expect missing_input 3 "$work/nothing.ply: " "$work/nothing.ply" "$work/x"
+expect point_cloud 5 "no faces" "$work/points.ply" "$work/x"
+expect unwritable 7 "cannot" "$data/cow.off" /proc/gausslod-cannot-write-here
+expect check_point_cloud 5 "no faces" --check "$work/points.ply"
+expect check_ok 0 "cow.off: ok: 5804 faces, 2904 vertices; 1 vertices welded" --check "$data/cow.off"
+[ ! -e "$work/x" ] && pass "no output folder after the errors" || fail "errors left $work/x: $(ls -R "$work/x")"
 
 # 7. OFF files with lines of blanks (VCG's OFF reader alone crashes on them): Debian's CGAL data
 # file prim.off (a cube of 5 quads + 2 triangles, a blank line of two spaces) and a generated one
@@ -92,7 +95,20 @@ printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n \t \n# faces\n3 0 2 1\n3 0 1 3\
 [ $rc -eq 0 ] && [ "$(ply_faces "$work/tetra/tetra_LOD0.ply")" = 4 ] &&
   pass "OFF with blank lines of spaces and tabs: a 4-triangle tetrahedron" || fail "tetra.off: exit $rc: $(cat "$work/tetra.txt")"
 printf 'OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1\n' >"$work/short_face.off"
-expect short_face 1 "cannot read" "$work/short_face.off" "$work/x"
+expect short_face 4 "short_face.off: " "$work/short_face.off" "$work/x"
+
+# 8. welding: an STL soup that nobody here made (Debian's assimp-testmodels; every triangle has its
+# own three vertices, as in most STL files) is simplified; --no-weld keeps every face apart
+stl=${GAUSSLOD_ASSIMP_MODELS:-/usr/share/assimp/models}/STL/Wuson.stl
+"$tool" --json "$stl" "$work/wuson" >"$work/wuson.txt" 2>&1 || fail "Wuson.stl: exit $?: $(cat "$work/wuson.txt")"
+"$tool" --no-weld "$stl" "$work/wuson_nw" >/dev/null 2>&1 || fail "Wuson.stl --no-weld: exit $?"
+in=$(( ($(stat -c %s "$stl") - 84) / 50 ))
+w=$(ply_faces "$work/wuson/Wuson_LOD0.ply") nw=$(ply_faces "$work/wuson_nw/Wuson_LOD0.ply")
+[ "$w" -lt $((in * 7 / 10)) ] && [ "$nw" = "$in" ] &&
+  pass "STL soup: $in faces -> LOD0 $w welded, $nw with --no-weld" ||
+  fail "STL soup: $in faces -> LOD0 $w welded (want < 70 %), $nw with --no-weld (want $in)"
+grep -q '"welded_vertices":[1-9]' "$work/wuson.txt" && pass "--json says how many vertices were welded" ||
+  fail "--json: no welded_vertices: $(head -c 600 "$work/wuson.txt")"
 
 echo "test_cli: $failures failure(s)"
 [ $failures -eq 0 ]

@@ -1,0 +1,164 @@
+#!/usr/bin/env bash
+# gausslod batch on a manifest of several hundred real files and some bad ones: killed with
+# SIGKILL half way and restarted, every good file is done once, every bad one reported, nothing
+# lost or half written; a third run redoes nothing; GNU parallel (local jobs and the
+# --sshloginfile form, with ':' = this machine) and the Slurm array script split the manifest
+# into disjoint parts whose outputs are the same files.
+# usage: test_batch.sh GAUSSLOD DATA_DIR WORK_DIR SLURM_SCRIPT
+set -uo pipefail
+tool=$1 data=$(cd "$2" && pwd) work=$3 slurm=$4
+rm -rf "$work"; mkdir -p "$work/in/sub"
+failures=0
+fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
+pass() { echo "ok: $*"; }
+
+# --- 300 good inputs (links to 10 of Debian's small CGAL models), 20 bad ones ------------------
+models=(joint pig helmet anchor rotor eight nefertiti dragknob part blob)
+: >"$work/manifest.txt"
+echo "# made by test_batch.sh" >>"$work/manifest.txt"
+for i in $(seq -w 0 299); do
+  m=${models[$((10#$i % 10))]}
+  dir=in; [ $((10#$i % 3)) = 0 ] && dir=in/sub
+  ln -s "$data/$m.off" "$work/$dir/m$i.off"
+  echo "$dir/m$i.off" >>"$work/manifest.txt"
+done
+for i in $(seq -w 0 19); do
+  case $((10#$i % 5)) in
+    0) head -c 3000 /dev/urandom >"$work/in/bad$i.ply" ;;
+    1) : >"$work/in/bad$i.off" ;;
+    2) printf 'OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1\n' >"$work/in/bad$i.off" ;;
+    3) printf 'ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 1 1\n' >"$work/in/bad$i.ply" ;;
+    4) ;; # missing file
+  esac
+  ext=ply; [ -e "$work/in/bad$i.off" ] && ext=off
+  echo "in/bad$i.$ext" >>"$work/manifest.txt"
+done
+good=300 bad=20
+(cd "$work" && grep -v '^#' manifest.txt | shuf --random-source=<(yes) >manifest.txt.shuf &&
+  { echo "# made by test_batch.sh"; cat manifest.txt.shuf; } >manifest.txt)
+
+# --- 1. run, SIGKILL after a third of the records, restart ---------------------------------------
+"$tool" batch --threads 1 "$work/manifest.txt" "$work/out" >"$work/run1.jsonl" 2>"$work/run1.err" &
+pid=$!
+for _ in $(seq 600); do
+  [ "$(find "$work/out" -name '*.gausslod.json' 2>/dev/null | wc -l)" -ge 100 ] && break
+  kill -0 $pid 2>/dev/null || break
+  sleep 0.05
+done
+if kill -0 $pid 2>/dev/null; then
+  kill -9 $pid; wait $pid 2>/dev/null
+  pass "killed with SIGKILL after $(wc -l <"$work/run1.jsonl") results"
+else
+  fail "the first run ended before it could be killed (make the manifest longer)"
+fi
+# a level file under its final name is never partial (binary PLY: the size the header says)
+check_ply() { python3 - "$@" <<'PY'
+import os, sys
+bad = 0
+for f in sys.argv[1:]:
+    data = open(f, 'rb').read()
+    end = data.find(b'end_header\n') + len(b'end_header\n')
+    counts = {}
+    for line in data[:end].decode().splitlines():
+        w = line.split()
+        if w[:1] == ['element']:
+            counts[w[1]] = int(w[2])
+    # vertex: 3 doubles or floats; the writer's layout is fixed: find it from the properties
+    header = data[:end].decode()
+    vsize = sum({'float': 4, 'double': 8, 'uchar': 1, 'int': 4}[l.split()[1]]
+                for l in header.split('element vertex')[1].split('element face')[0].splitlines()
+                if l.startswith('property'))
+    fprops = [l for l in header.split('element face')[1].splitlines() if l.startswith('property')]
+    fsize = 1 + 3 * 4 + sum({'uchar': 1, 'float': 4, 'int': 4}[l.split()[1]]
+                            for l in fprops if not l.startswith('property list'))
+    if len(data) != end + counts['vertex'] * vsize + counts['face'] * fsize:
+        print('partial or wrong size:', f); bad += 1
+sys.exit(1 if bad else 0)
+PY
+}
+mapfile -t levels < <(find "$work/out" -name '*_LOD*.ply')
+[ ${#levels[@]} -gt 0 ] && check_ply "${levels[@]}" && pass "after the kill: ${#levels[@]} level files, none partial" ||
+  fail "after the kill: a level file is partial"
+
+"$tool" batch --threads 1 "$work/manifest.txt" "$work/out" >"$work/run2.jsonl" 2>"$work/run2.err"; rc=$?
+[ $rc -eq 1 ] && pass "restart: exit 1 (some inputs failed)" || fail "restart: exit $rc, want 1"
+python3 - "$work" $good $bad <<'PY' && pass "every good file done once, every bad one reported" || fail "batch results wrong (above)"
+import json, sys, collections
+work, good, bad = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+done = collections.Counter(); errors = set(); cached = set(); problems = []
+for run in ('run1', 'run2'):
+    for line in open(f'{work}/{run}.jsonl'):
+        r = json.loads(line)
+        if r['status'] == 'ok':
+            assert len(r['levels']) == 5 and r['faces'] > 0, r
+            if r['cached']: cached.add(r['input'])
+            else: done[r['input']] += 1
+        else:
+            assert r['code'] in (3, 4, 5) and r['message'], r
+            errors.add(r['input'])
+run2 = [json.loads(l) for l in open(f'{work}/run2.jsonl')]
+if len(run2) != good + bad: problems.append(f'run 2 printed {len(run2)} lines, want {good + bad}')
+if len(done) != good: problems.append(f'{len(done)} good files done, want {good}')
+twice = [k for k, n in done.items() if n != 1]
+if twice: problems.append(f'done more than once: {twice[:5]}')
+if len(errors) != bad: problems.append(f'{len(errors)} bad files reported, want {bad}')
+if not cached: problems.append('nothing of run 1 was reused')
+print(f'{len(done)} done once, {len(cached)} reused from the killed run, {len(errors)} errors')
+for p in problems: print('problem:', p)
+sys.exit(1 if problems else 0)
+PY
+left=$(find "$work/out" -name '*.part-*' | wc -l)
+[ "$left" -eq 0 ] && pass "no temporary file left" || fail "$left temporary files left"
+n=$(find "$work/out" -name '*_LOD*.ply' | wc -l)
+[ "$n" -eq $((good * 5)) ] && pass "$n level files" || fail "$n level files, want $((good * 5))"
+mapfile -t levels < <(find "$work/out" -name '*_LOD*.ply')
+check_ply "${levels[@]}" || fail "a level file is partial after the restart"
+
+# --- 2. a third run redoes nothing ------------------------------------------------------------------
+"$tool" batch --threads 1 "$work/manifest.txt" "$work/out" >"$work/run3.jsonl" 2>/dev/null
+c=$(grep -c '"cached":true' "$work/run3.jsonl"); e=$(grep -c '"status":"error"' "$work/run3.jsonl")
+[ "$c" -eq $good ] && [ "$e" -eq $bad ] && pass "third run: $c cached, $e errors again" ||
+  fail "third run: $c cached (want $good), $e errors (want $bad)"
+
+# --- 3. GNU parallel, local jobs and --sshloginfile (':' is this machine) -------------------------
+same_files() { # DIR: every level file equal to the first run's
+  local d=$1 diff=0 f
+  while read -r f; do cmp -s "$work/out/$f" "$d/$f" || diff=$((diff + 1)); done < <(cd "$work/out" && find . -name '*_LOD*.ply')
+  [ "$(find "$d" -name '*_LOD*.ply' | wc -l)" -eq $((good * 5)) ] && [ $diff -eq 0 ]
+}
+if command -v parallel >/dev/null; then
+  parallel --will-cite -j 2 "$tool" batch --threads 1 "$work/manifest.txt" "$work/par" --part {}/4 ::: 0 1 2 3 \
+    >"$work/par.jsonl" 2>/dev/null
+  lines=$(grep -c . "$work/par.jsonl"); uniq=$(grep -o '"line":[0-9]*' "$work/par.jsonl" | sort -u | wc -l)
+  [ "$lines" -eq $((good + bad)) ] && [ "$uniq" -eq "$lines" ] && same_files "$work/par" &&
+    pass "GNU parallel -j 2, 4 parts: every line once, the same files" ||
+    fail "GNU parallel: $lines lines, $uniq distinct (want $((good + bad)))"
+  printf '2/:\n' >"$work/sshlogins"
+  parallel --will-cite --sshloginfile "$work/sshlogins" "$tool" batch --threads 1 "$work/manifest.txt" \
+    "$work/ssh" --part {}/3 ::: 0 1 2 >"$work/ssh.jsonl" 2>/dev/null
+  lines=$(grep -c . "$work/ssh.jsonl")
+  [ "$lines" -eq $((good + bad)) ] && same_files "$work/ssh" &&
+    pass "GNU parallel --sshloginfile: every line once, the same files" || fail "--sshloginfile: $lines lines"
+else
+  fail "GNU parallel is not installed (Debian package parallel; cmake/setup.sh installs it)"
+fi
+
+# --- 4. the Slurm array script: task k of N takes the manifest's data lines i with i % N == k -----
+: >"$work/slurm.jsonl"
+for k in 0 1 2 3 4; do
+  SLURM_ARRAY_TASK_ID=$((k + 10)) SLURM_ARRAY_TASK_MIN=10 SLURM_ARRAY_TASK_COUNT=5 GAUSSLOD=$tool \
+    bash "$slurm" "$work/manifest.txt" "$work/slurm" --threads 1 >"$work/slurm$k.jsonl" 2>/dev/null
+  cat "$work/slurm$k.jsonl" >>"$work/slurm.jsonl"
+done
+python3 - "$work" <<'PY' && same_files "$work/slurm" && pass "Slurm array (ids 10..14): each task its lines, every line once" || fail "Slurm array mapping wrong"
+import json, sys
+work = sys.argv[1]
+data = [l for l in open(f'{work}/manifest.txt') if l.strip() and not l.startswith('#')]
+for k in range(5):
+    lines = [json.loads(l)['line'] for l in open(f'{work}/slurm{k}.jsonl')]
+    want = [i + 2 for i in range(len(data)) if i % 5 == k]  # manifest line numbers (a comment first)
+    assert lines == want, (k, lines[:5], want[:5])
+PY
+
+echo "test_batch: $failures failure(s)"
+[ $failures -eq 0 ]
