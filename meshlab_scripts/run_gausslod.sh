@@ -10,8 +10,14 @@
 # build tree's private prefix <repo>/build/meshlab-prefix, else the system meshlabserver if the
 # plugin is installed system-wide.
 #
-# Exit status: 0 = every level saved; 2 = bad usage or input (missing file, unreadable mesh, no
-# faces); 3 = meshlabserver or the filter failed; 4 = an expected output file is missing or empty.
+# The input is first read and checked by the gausslod tool ($GAUSSLOD_TOOL, else the build tree's,
+# else gausslod on PATH): the same reader, messages and exit codes as the tool, since Debian's
+# meshlabserver aborts or crashes on some broken files instead of saying what is wrong.
+#
+# Exit status (as the gausslod tool's): 0 = every level saved; 1 = meshlabserver or the filter
+# failed; 2 = bad usage or script; 3 = the input cannot be opened; 4 = not a readable mesh file;
+# 5 = nothing to simplify (no faces, bad coordinates); 6 = not enough memory; 7 = an expected
+# output file is missing or empty.
 set -euo pipefail
 
 me=$(basename "$0")
@@ -26,11 +32,25 @@ die() { local code=$1; shift; echo "$me: error: $*" >&2; exit "$code"; }
 [ $# -ge 2 ] && [ $# -le 3 ] || { echo "usage: $me INPUT OUTDIR [SCRIPT.mlx]" >&2; exit 2; }
 input=$1 outdir=$2 script=${3:-$here/gausslod_default.mlx}
 
-[ -e "$input" ] || die 2 "input file not found: $input"
-[ -f "$input" ] && [ -r "$input" ] || die 2 "input is not a readable file: $input"
-[ -s "$input" ] || die 2 "input file is empty: $input"
+[ -e "$input" ] || die 3 "input file not found: $input"
+[ -f "$input" ] && [ -r "$input" ] || die 3 "input is not a readable file: $input"
+[ -s "$input" ] || die 4 "input file is empty: $input"
 [ -f "$script" ] && [ -r "$script" ] || die 2 "script not found: $script"
 grep -qF "name=\"$filter_name\"" "$script" || die 2 "script $script does not run the filter '$filter_name'"
+
+# --- the input, checked by the gausslod tool ---------------------------------------------------------
+tool=${GAUSSLOD_TOOL:-}
+[ -n "$tool" ] || { [ -x "$repo/build/gausslod" ] && tool=$repo/build/gausslod; } ||
+  tool=$(command -v gausslod || true)
+if [ -n "$tool" ]; then
+  set +e
+  check=$("$tool" --check "$input" 2>&1)
+  rc=$?
+  set -e
+  [ $rc -eq 0 ] || die "$rc" "${check#gausslod: }"
+else
+  echo "$me: warning: no gausslod tool to check $input first (GAUSSLOD_TOOL)" >&2
+fi
 
 # --- meshlabserver with the GaussLOD plugin --------------------------------------------------------
 if [ -n "${GAUSSLOD_MESHLAB_PREFIX:-}" ]; then
@@ -100,17 +120,17 @@ loaded=$(grep -o 'loaded has [0-9]* vn [0-9]* fn' "$log" | head -n1 || true)
 show_log() { echo "---- meshlabserver output (last 25 lines) ----" >&2; tail -n 25 "$log" >&2; }
 if [ -z "$loaded" ]; then
   show_log
-  die 2 "could not read a mesh from $input (meshlabserver exit status $rc)"
+  die 4 "could not read a mesh from $input (meshlabserver exit status $rc)"
 fi
 in_faces=$(echo "$loaded" | awk '{print $5}')
 in_verts=$(echo "$loaded" | awk '{print $3}')
 if [ "$in_faces" = 0 ]; then
-  die 2 "$input has no faces ($in_verts vertices): GaussLOD needs a triangle mesh"
+  die 5 "$input has no faces ($in_verts vertices): GaussLOD needs a triangle mesh"
 fi
 if [ $rc -ne 0 ] || grep -q 'Problem with filter\|Failed to apply script' "$log"; then
   show_log
   reason=$(grep -o 'GaussLOD failed: .*' "$log" | head -n1 || true)
-  die 3 "meshlabserver failed (exit status $rc) running $script on $input${reason:+: $reason}"
+  die 1 "meshlabserver failed (exit status $rc) running $script on $input${reason:+: $reason}"
 fi
 
 # the filter's own log line of a level: superfaces, fallbacks, measured normal deviation, seconds
@@ -143,5 +163,5 @@ for i in "${!levels[@]}"; do
 done
 if [ $missing -ne 0 ]; then
   show_log
-  die 4 "meshlabserver did not save every level (see above)"
+  die 7 "meshlabserver did not save every level (see above)"
 fi
