@@ -272,34 +272,46 @@ std::string repairsText(const gausslod::InputStats &in)
 	return s;
 }
 
-Outcome checkOne(const std::string &input, const Options &o)
+namespace {
+
+// Reads `input` and hands it to fn(flat, params, outcome); an allocation failure anywhere is the
+// outcome's out-of-memory error.
+template <class Fn>
+Outcome withInput(const std::string &input, const Options &o, Fn fn)
 {
 	Outcome out;
 	try {
 		gausslod::FlatMesh flat;
 		gausslod::Params p;
-		if (!readInput(input, o, flat, p, out))
-			return out;
-		const gausslod::Result res = gausslod::checkInput(flat.view(), p);
-		if (!res.ok)
-			setEngineError(out, res);
-		out.levels.emplace_back();
-		out.levels.back().input = res.input;
+		if (readInput(input, o, flat, p, out))
+			fn(flat, p, out);
 	} catch (const std::bad_alloc &) {
 		setError(out, kNoMemory, "out_of_memory", "out of memory");
 	}
 	return out;
 }
 
+} // namespace
+
+Outcome checkOne(const std::string &input, const Options &o)
+{
+	using gausslod::FlatMesh;
+	using gausslod::Params;
+	return withInput(input, o, [](const FlatMesh &flat, const Params &p, Outcome &out) {
+		const gausslod::Result res = gausslod::checkInput(flat.view(), p);
+		if (!res.ok)
+			setEngineError(out, res);
+		out.levels.emplace_back();
+		out.levels.back().input = res.input;
+	});
+}
+
 Outcome runOne(const std::string &input, const std::string &outdir, const std::string &stem,
                const Options &o, const LevelDone &done)
 {
-	Outcome out;
-	try {
-		gausslod::FlatMesh flat;
-		gausslod::Params p;
-		if (!readInput(input, o, flat, p, out))
-			return out;
+	using gausslod::FlatMesh;
+	using gausslod::Params;
+	return withInput(input, o, [&](const FlatMesh &flat, const Params &p, Outcome &out) {
 #ifdef __GLIBC__
 		// below 500k faces the freed arrays weigh more in the peak and are cheap to map (DESIGN.md)
 		mallopt(M_MMAP_THRESHOLD, out.inputFaces < 500000 ? 256 << 10 : 4 << 20);
@@ -335,10 +347,7 @@ Outcome runOne(const std::string &input, const std::string &outdir, const std::s
 			setError(out, kCannotWrite, "write_failed", writeError);
 		else if (!res.ok)
 			setEngineError(out, res);
-	} catch (const std::bad_alloc &) {
-		setError(out, kNoMemory, "out_of_memory", "out of memory");
-	}
-	return out;
+	});
 }
 
 } // namespace cli
