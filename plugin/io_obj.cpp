@@ -83,6 +83,8 @@ bool GaussLodObjIOPlugin::open(const QString &format, const QString &fileName, M
 	const QString errorFormat = "Error encountered while loading file:\n\"%1\"\n\nError details: %2";
 	auto fail = [&](const QString &why) {
 		errorMessage = errorFormat.arg(fileName, why);
+		// meshlabserver does not print errorMessage: say it on stderr too
+		qWarning("GaussLOD OBJ import: %s: %s", qUtf8Printable(fileName), qUtf8Printable(why));
 		return false;
 	};
 	if (format.toUpper() != "OBJ")
