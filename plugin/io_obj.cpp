@@ -80,7 +80,8 @@ bool GaussLodObjIOPlugin::open(const QString &format, const QString &fileName, M
                                int &mask, const RichParameterList &, vcg::CallBackPos *cb,
                                QWidget *)
 {
-	const QString errorFormat = "Error encountered while loading file:\n\"%1\"\n\nError details: %2";
+	const QString errorFormat =
+	    "Error encountered while loading file:\n\"%1\"\n\nError details: %2";
 	auto fail = [&](const QString &why) {
 		errorMessage = errorFormat.arg(fileName, why);
 		// meshlabserver does not print errorMessage: say it on stderr too
@@ -109,7 +110,8 @@ bool GaussLodObjIOPlugin::open(const QString &format, const QString &fileName, M
 		return fail(ObjImporter::ErrorMsg(ObjImporter::E_CANTOPEN));
 	std::string problem;
 	if (!gausslod::obj::checkObjForVcg<CMeshO>(path.c_str(), oi, problem))
-		return fail("not a Wavefront OBJ file MeshLab can read: " + QString::fromStdString(problem));
+		return fail("not a Wavefront OBJ file MeshLab can read: " +
+		            QString::fromStdString(problem));
 
 	m.Enable(oi.mask);
 	const int result = ObjImporter::Open(m.cm, path.c_str(), oi);
@@ -117,7 +119,8 @@ bool GaussLodObjIOPlugin::open(const QString &format, const QString &fileName, M
 		m.cm.Clear();
 		return fail(ObjImporter::ErrorMsg(result));
 	}
-	if (result != ObjImporter::E_NOERROR) // kept as io_base keeps it: MeshLab shows it, loads the mesh
+	// a non-critical error is kept as io_base keeps it: MeshLab shows it and loads the mesh
+	if (result != ObjImporter::E_NOERROR)
 		errorMessage = errorFormat.arg(fileName, ObjImporter::ErrorMsg(result));
 	useLocalTextureNames(m.cm.textures);
 	m.Enable(oi.mask);

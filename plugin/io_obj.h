@@ -1,4 +1,4 @@
-// Wavefront OBJ import for Debian's MeshLab 2020.09, whose own (io_base's) aborts on every OBJ file.
+// Wavefront OBJ import for Debian's MeshLab 2020.09, whose own (io_base's) aborts on any OBJ file.
 //
 // The same VCG importer io_base uses, with its index defect fixed and its input checked first
 // (vcg_core/gausslod/obj_import.h), so files open as MeshLab's Windows build opens them: polygons

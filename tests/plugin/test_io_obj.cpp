@@ -1,5 +1,5 @@
-// The GaussLOD OBJ plugin loaded headless (QPluginLoader, MeshLab's PluginManager) on real OBJ files
-// that this project did not make (Debian's assimp-testmodels), checked against what the files say.
+// The GaussLOD OBJ plugin loaded headless (QPluginLoader, MeshLab's PluginManager) on real OBJ
+// files that this project did not make (Debian's assimp-testmodels), checked against what the files say.
 //
 // Paths come from CMake: GAUSSLOD_OBJ_PLUGIN_PATH (the built .so), GAUSSLOD_IO_BASE_PATH (Debian's
 // libio_base.so), GAUSSLOD_OBJ_DIR (assimp's models/OBJ), GAUSSLOD_INVALID_DIR (models/invalid).
@@ -303,7 +303,7 @@ TEST_P(ObjPluginRealFiles, EveryFaceIsRead)
 	EXPECT_EQ(o.mm->cm.fn, facts.triangles);
 	EXPECT_EQ(!facts.trianglesOnly(), r.polygons);
 	EXPECT_EQ(bool(o.mask & vcg::tri::io::Mask::IOM_BITPOLYGONAL), r.polygons);
-	EXPECT_EQ(facts.normals > 0, r.normals); // "v//n" corners read (MeshLab then recomputes normals)
+	EXPECT_EQ(facts.normals > 0, r.normals); // "v//n" corners read (MeshLab recomputes normals)
 	if (r.facewise)
 		expectFacesMatch(o, facts, kObjDir.toStdString());
 }
