@@ -1,5 +1,5 @@
 // The GaussLOD OBJ plugin loaded headless (QPluginLoader, MeshLab's PluginManager) on real OBJ
-// files that this project did not make (Debian's assimp-testmodels), checked against what the files say.
+// files that this project did not make (Debian's assimp-testmodels), checked against the files.
 //
 // Paths come from CMake: GAUSSLOD_OBJ_PLUGIN_PATH (the built .so), GAUSSLOD_IO_BASE_PATH (Debian's
 // libio_base.so), GAUSSLOD_OBJ_DIR (assimp's models/OBJ), GAUSSLOD_INVALID_DIR (models/invalid).
