@@ -8,7 +8,8 @@
 #
 # meshlabserver: $GAUSSLOD_MESHLAB_PREFIX/bin/meshlabserver if that variable is set, else the
 # build tree's private prefix <repo>/build/meshlab-prefix, else the system meshlabserver if the
-# plugin is installed system-wide.
+# plugin is installed system-wide. An OBJ input needs our OBJ plugin beside it (Debian's MeshLab
+# 2020.09 aborts on every OBJ file without it).
 #
 # The input is first read and checked by the gausslod tool ($GAUSSLOD_TOOL, else the build tree's,
 # else gausslod on PATH): the same reader, messages and exit codes as the tool, since Debian's
@@ -25,6 +26,7 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 repo=$(cd "$here/.." && pwd)
 filter_name="Gauss Sphere LOD: Merge Near-Coplanar Faces"
 plugin_so=libfilter_gausslod.so
+obj_plugin_so=libgausslod_io_obj.so
 multiarch=x86_64-linux-gnu
 
 die() { local code=$1; shift; echo "$me: error: $*" >&2; exit "$code"; }
@@ -55,18 +57,25 @@ fi
 # --- meshlabserver with the GaussLOD plugin --------------------------------------------------------
 if [ -n "${GAUSSLOD_MESHLAB_PREFIX:-}" ]; then
   server=$GAUSSLOD_MESHLAB_PREFIX/bin/meshlabserver
+  plugdir=$GAUSSLOD_MESHLAB_PREFIX/lib/$multiarch/meshlab/plugins
   [ -x "$server" ] || die 2 "GAUSSLOD_MESHLAB_PREFIX=$GAUSSLOD_MESHLAB_PREFIX has no bin/meshlabserver"
-  [ -e "$GAUSSLOD_MESHLAB_PREFIX/lib/$multiarch/meshlab/plugins/$plugin_so" ] ||
+  [ -e "$plugdir/$plugin_so" ] ||
     die 2 "GAUSSLOD_MESHLAB_PREFIX=$GAUSSLOD_MESHLAB_PREFIX has no plugins/$plugin_so"
 elif [ -x "$repo/build/meshlab-prefix/bin/meshlabserver" ]; then
   server=$repo/build/meshlab-prefix/bin/meshlabserver
+  plugdir=$repo/build/meshlab-prefix/lib/$multiarch/meshlab/plugins
 elif [ -e "/usr/lib/$multiarch/meshlab/plugins/$plugin_so" ] && command -v meshlabserver >/dev/null; then
   server=$(command -v meshlabserver)
+  plugdir=/usr/lib/$multiarch/meshlab/plugins
 else
   die 2 "no meshlabserver with the GaussLOD plugin: build the project (cmake --build build), set" \
         "GAUSSLOD_MESHLAB_PREFIX, or install the plugin"
 fi
 command -v xvfb-run >/dev/null || die 2 "xvfb-run not found (Debian package xvfb)"
+if [[ ${input,,} == *.obj ]] && [ ! -e "$plugdir/$obj_plugin_so" ]; then
+  die 2 "$input is an OBJ file and $plugdir has no $obj_plugin_so: Debian's MeshLab 2020.09" \
+        "aborts on every OBJ file without it (build the project or install its package)"
+fi
 
 # --- which levels the script asks for (finest first = the order of the new layers) ---------------
 param() { # value of <Param name="$1" ...> in the script, or empty
@@ -120,7 +129,8 @@ loaded=$(grep -o 'loaded has [0-9]* vn [0-9]* fn' "$log" | head -n1 || true)
 show_log() { echo "---- meshlabserver output (last 25 lines) ----" >&2; tail -n 25 "$log" >&2; }
 if [ -z "$loaded" ]; then
   show_log
-  die 4 "could not read a mesh from $input (meshlabserver exit status $rc)"
+  reason=$(grep -o 'GaussLOD OBJ import: .*' "$log" | head -n1 || true) # meshlabserver omits it
+  die 4 "could not read a mesh from $input (meshlabserver exit status $rc)${reason:+: $reason}"
 fi
 in_faces=$(echo "$loaded" | awk '{print $5}')
 in_verts=$(echo "$loaded" | awk '{print $3}')

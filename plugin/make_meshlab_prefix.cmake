@@ -2,9 +2,10 @@
 #   PREFIX/bin/meshlab, PREFIX/bin/meshlabserver           copies (a symlink resolves to /usr/bin and
 #                                                         MeshLab would load the system plugins)
 #   PREFIX/lib/MULTIARCH/meshlab/libmeshlab-common.so      -> SYSTEM_LIBDIR/libmeshlab-common.so
-#   PREFIX/lib/MULTIARCH/meshlab/plugins/*.so              -> every system plugin, and PLUGIN
-# Inputs: PREFIX, MULTIARCH, SYSTEM_LIBDIR, SYSTEM_BINDIR, PLUGIN.
-foreach(var PREFIX MULTIARCH SYSTEM_LIBDIR SYSTEM_BINDIR PLUGIN)
+#   PREFIX/lib/MULTIARCH/meshlab/plugins/*.so              -> every system plugin, PLUGIN and
+#                                                         OBJ_PLUGIN (our OBJ importer)
+# Inputs: PREFIX, MULTIARCH, SYSTEM_LIBDIR, SYSTEM_BINDIR, PLUGIN, OBJ_PLUGIN.
+foreach(var PREFIX MULTIARCH SYSTEM_LIBDIR SYSTEM_BINDIR PLUGIN OBJ_PLUGIN)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "make_meshlab_prefix.cmake: ${var} is not set")
   endif()
@@ -44,10 +45,11 @@ link_to("${SYSTEM_LIBDIR}/libmeshlab-common.so" "${libdir}/libmeshlab-common.so"
 
 # Start from a clean plugin list, so a plugin removed from the system does not linger here.
 get_filename_component(ours "${PLUGIN}" NAME)
+get_filename_component(ours_obj "${OBJ_PLUGIN}" NAME)
 file(GLOB stale "${plugdir}/*")
 foreach(f IN LISTS stale)
   get_filename_component(n "${f}" NAME)
-  if(NOT n STREQUAL ours)
+  if(NOT n STREQUAL ours AND NOT n STREQUAL ours_obj)
     file(REMOVE "${f}")
   endif()
 endforeach()
@@ -55,8 +57,9 @@ file(GLOB system_plugins "${SYSTEM_LIBDIR}/plugins/*.so")
 foreach(p IN LISTS system_plugins)
   get_filename_component(n "${p}" NAME)
   # a system-wide installed copy of this plugin must not shadow the one just built
-  if(NOT n STREQUAL ours)
+  if(NOT n STREQUAL ours AND NOT n STREQUAL ours_obj)
     link_to("${p}" "${plugdir}/${n}")
   endif()
 endforeach()
 link_to("${PLUGIN}" "${plugdir}/${ours}")
+link_to("${OBJ_PLUGIN}" "${plugdir}/${ours_obj}")

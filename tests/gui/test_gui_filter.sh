@@ -7,11 +7,14 @@
 #   4. File > Save Project: MeshLab asks for a file for every new layer, in layer order, in a dialog
 #      titled 'Save "<layer label>" Layer'; the test answers each one, then saves the .mlp project;
 #   5. checks one layer per level (labels, order, saved PLY face counts, project file) and the log;
-#   6. leaves screenshots (import -window root) in OUT_DIR (the dialog: 2b_dialog.png).
-# usage: test_gui_filter.sh MESHLAB_PREFIX MENU_INDEX_TOOL DATA_DIR OUT_DIR
+#   6. File > Import Mesh of a real textured OBJ (our OBJ plugin: Debian's own aborts on it), the
+#      filter again on it (Filters > Apply filter: its dialog, Apply), one layer per level;
+#   7. leaves screenshots (import -window root) in OUT_DIR (the dialog: 2b_dialog.png, the OBJ:
+#      5_obj_loaded.png, its levels: 6_obj_levels.png).
+# usage: test_gui_filter.sh MESHLAB_PREFIX MENU_INDEX_TOOL DATA_DIR OUT_DIR OBJ_FILE
 set -uo pipefail
 
-prefix=$1 menu_index=$2 data=$3 out=$4
+prefix=$1 menu_index=$2 data=$3 out=$4 obj=$5
 filter="Gauss Sphere LOD: Merge Near-Coplanar Faces"
 levels=(4 3 2 1 0) # default maxLevel 5, finest first = layer order
 plugdir=$prefix/lib/x86_64-linux-gnu/meshlab/plugins
@@ -181,6 +184,39 @@ for i in "${!levels[@]}"; do
 done
 check 'logged "${#levels[@]} layer(s) added"' "the log reports ${#levels[@]} layers added"
 check '! logged "GaussLOD failed"' "no filter error in the log"
+check 'kill -0 $meshlab_pid' "MeshLab is still running"
+
+# ---- 6. a textured OBJ through File > Import Mesh, and the filter on it --------------------------
+obj_name=$(basename "$obj" .obj)
+step "File > Import Mesh $obj"
+opened_before=$(grep -c "All files opened" "$out/meshlab.stderr")
+key_into "$main" ctrl+i
+import_dialog=$(window_id '^Import Mesh$' 15) || die "no Import Mesh dialog"
+type_into "$import_dialog" "$obj" && xdotool key Return
+imported_or_gone() {
+  [ "$(grep -c "All files opened" "$out/meshlab.stderr")" -gt $opened_before ] || ! kill -0 $meshlab_pid
+}
+wait_for 60 imported_or_gone || die "MeshLab did not import $obj"
+kill -0 $meshlab_pid || die "MeshLab exited importing $obj (Debian's OBJ importer aborts)"
+sleep 0.7
+import -window root "$out/5_obj_loaded.png"
+applied_before=$(grep -c "Applied filter $filter" "$out/meshlab.stderr")
+key_into "$main" ctrl+p # Filters > Apply filter: the last filter's dialog, on the current layer
+dialog=$(window_id "^$filter\$" 15) || die "Filters > Apply filter did not open the dialog"
+sleep 0.3
+eval "$(xdotool getwindowgeometry --shell "$dialog")"
+xdotool mousemove --window "$dialog" $((WIDTH * 3 / 4)) $((HEIGHT - 23)) click 1
+wait_for 60 eval '[ "$(grep -c "Applied filter $filter" "$out/meshlab.stderr")" -gt $applied_before ]' ||
+  die "the filter was not applied to $obj_name within 60 s"
+eval "$(xdotool getwindowgeometry --shell "$dialog")"
+xdotool mousemove --window "$dialog" $((WIDTH / 4)) $((HEIGHT - 23)) click 1 # Close
+sleep 0.7
+import -window root "$out/6_obj_levels.png"
+check 'logged "Opened mesh $obj"' "the log says $obj_name.obj was opened"
+check '! logged "Failure of loading texture"' "every texture of $obj_name.obj was found"
+check '[ "$(grep -c "layer(s) added" "$out/meshlab.stderr")" -eq 2 ]' \
+  "the filter added the levels of $obj_name too"
+check '! logged "GaussLOD failed"' "no filter error on $obj_name"
 check 'kill -0 $meshlab_pid' "MeshLab is still running"
 
 [ $failures -eq 0 ] || die "$failures check(s) failed"

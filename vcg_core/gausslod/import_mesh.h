@@ -1,8 +1,12 @@
-// Reads a mesh file (PLY, OBJ, OFF, STL: whatever VCG's importer reads) into any VCG mesh type,
-// with one guard VCG 2020.09 lacks: its OFF reader takes the first token of a line that holds
+// Reads a mesh file (PLY, OBJ, OFF, STL: whatever VCG's importer reads) into any VCG mesh type.
+// OBJ into gausslod::IoMesh goes through obj_import.h (VCG's importer fixed, its input checked).
+// One more guard VCG 2020.09 lacks: its OFF reader takes the first token of a line that holds
 // only blanks (spaces, tabs, CR) as if there were one, and crashes on CGAL's own data file
 // prim.off. Such lines are emptied (lines it skips) before it reads an OFF file.
 #pragma once
+
+#include "io_mesh.h"
+#include "obj_import.h"
 
 #include <vcg/complex/complex.h>
 #include <wrap/io_trimesh/import.h>
@@ -13,6 +17,9 @@
 #include <istream>
 #include <streambuf>
 #include <string>
+
+// VCG 2020.09's OBJ importer skips every face that uses the file's first vertex (obj_import.h)
+GAUSSLOD_FIX_VCG_OBJ_INDICES(gausslod::IoMesh)
 
 namespace gausslod {
 
@@ -85,6 +92,8 @@ template <class MeshT>
 bool importMesh(MeshT &m, const std::string &path, std::string &error)
 {
 	int mask = 0;
+	if (detail::hasExtension(path, "obj") && obj::IndexFixFor<MeshT>::value)
+		return obj::importObj(m, path, error);
 	if (!detail::hasExtension(path, "off")) {
 		const int e = vcg::tri::io::Importer<MeshT>::Open(m, path.c_str(), mask);
 		if (e != 0 && vcg::tri::io::Importer<MeshT>::ErrorCritical(e)) {

@@ -1,0 +1,110 @@
+#!/usr/bin/env bash
+# Real OBJ files (Debian's assimp-testmodels) through the real meshlabserver of a MeshLab prefix
+# holding our OBJ plugin, and through the runner: textures, texture coordinates, materials,
+# n-gons, export and re-import, a broken file; and Debian's own meshlabserver, which must still
+# behave as it does without our package.
+# usage: test_obj_io.sh MESHLAB_PREFIX RUNNER OBJ_DIR WORK_DIR
+set -uo pipefail
+
+prefix=$1 runner=$2 objdir=$3 work=$4
+rm -rf "$work"; mkdir -p "$work/config" "$work/runtime"; chmod 700 "$work/runtime"
+export XDG_CONFIG_HOME=$work/config XDG_RUNTIME_DIR=$work/runtime
+failures=0
+fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
+pass() { echo "ok: $*"; }
+check() { if eval "$1"; then pass "$2"; else fail "$2"; fi; }
+
+# server NAME BINARY ARGS...: meshlabserver under xvfb-run, output in $work/NAME.log, sets $rc
+server() {
+  local name=$1 bin=$2; shift 2
+  timeout 120 xvfb-run -a "$bin" "$@" >"$work/$name.log" 2>&1
+  rc=$?
+  echo "---- $name (exit $rc): meshlabserver $*"; grep -v '^$' "$work/$name.log" | tail -n 4
+}
+ml=$prefix/bin/meshlabserver
+header() { LC_ALL=C sed -n '1,/^end_header/p' "$1"; }
+element() { header "$1" | awk -v e="$2" '$1 == "element" && $2 == e { print $3 }'; }
+
+# 1. the textured spider (5 textures named '.\x.jpg' in its MTL, 19 usemtl) to an ASCII PLY
+server spider "$ml" -i "$objdir/spider.obj" -o "$work/spider.ply" -m wt fc sa
+check '[ $rc -eq 0 ]' "spider: exit 0"
+check 'grep -q "loaded has 762 vn 1368 fn" "$work/spider.log"' "spider: all 762 vertices, 1368 faces"
+check '[ "$(element "$work/spider.ply" face)" = 1368 ]' "spider: 1368 faces saved"
+check 'header "$work/spider.ply" | grep -q "property list uchar float texcoord"' \
+  "spider: per-corner texture coordinates saved"
+mapfile -t textures < <(header "$work/spider.ply" | sed -n 's/^comment TextureFile //p' | tr -d '\r')
+check '[ ${#textures[@]} -eq 5 ]' "spider: 5 textures (${textures[*]})"
+for t in "${textures[@]}"; do
+  check '[ -f "$objdir/$t" ]' "spider: texture $t exists next to the OBJ"
+done
+# the first face of the PLY is the file's first face, f 1/1/1 2/2/2 3/3/3: vt 1, 2, 3 in order
+vts=$(grep -m3 '^vt ' "$objdir/spider.obj" | awk '{ printf "%g %g ", $2, $3 }')
+first=$(LC_ALL=C awk '/^end_header/ { h = 1; next } h && ++n == 763 {
+  for (i = 6; i <= 11; i++) printf "%g ", $i; exit }' "$work/spider.ply")
+check '[ "$first" = "$vts" ]' "spider: face 1's texture coordinates are vt 1, 2, 3 ($first)"
+check 'header "$work/spider.ply" | grep -q "property uchar red"' "spider: material colours saved"
+
+# 2. io_base's OBJ export of what our plugin read, and our plugin reading that back
+server export "$ml" -i "$objdir/spider.obj" -o "$work/spider_out.obj" -m wt
+check '[ $rc -eq 0 ] && [ "$(grep -c "^f " "$work/spider_out.obj")" = 1368 ]' \
+  "export: 1368 faces written"
+# (the spider's material Brusttex, texture wal69ar_small.jpg, is used by no face)
+check '[ "$(grep "^map_Kd" "$work/spider_out.obj.mtl" 2>/dev/null | sort -u | wc -l)" = 4 ]' \
+  "export: the MTL names the 4 textures the faces use"
+server reimport "$ml" -i "$work/spider_out.obj" -o "$work/spider_again.ply" -m wt
+check '[ $rc -eq 0 ] && grep -q "loaded has [0-9]* vn 1368 fn" "$work/reimport.log"' \
+  "re-import of the export: 1368 faces"
+
+# 3. several materials without textures: face colours from Kd; a concave 66-gon: 64 triangles
+server regr01 "$ml" -i "$objdir/regr01.obj" -o "$work/regr01.ply" -m fc sa
+check '[ $rc -eq 0 ] && grep -q "loaded has 2108 vn 2710 fn" "$work/regr01.log"' "regr01: 2710 faces"
+ncolours=$(LC_ALL=C awk '/^end_header/ { h = 1; next } h && ++n > 2108 { print $(NF-3), $(NF-2), $(NF-1) }' \
+  "$work/regr01.ply" | sort -u | wc -l)
+check '[ "$ncolours" -ge 10 ]' "regr01: faces coloured by their materials ($ncolours colours)"
+server ngon "$ml" -i "$objdir/concave_polygon.obj" -o "$work/ngon.ply"
+check '[ $rc -eq 0 ] && grep -q "loaded has 64 vn 64 fn" "$work/ngon.log"' \
+  "concave 66-gon: triangulated into 64 faces"
+
+# 4. a broken file: an error naming the problem, no abort
+server malformed "$ml" -i "$objdir/../invalid/malformed.obj" -o "$work/malformed.ply"
+check '[ $rc -ne 0 ] && [ $rc -ne 134 ] && [ ! -e "$work/malformed.ply" ]' \
+  "malformed.obj: refused (exit $rc), not an abort"
+check 'grep -q "vertex 12 is not among the 8 vertices" "$work/malformed.log"' \
+  "malformed.obj: the message names the bad index"
+
+# 5. the runner on the textured OBJ: every level
+GAUSSLOD_MESHLAB_PREFIX=$prefix "$runner" "$objdir/spider.obj" "$work/levels" >"$work/runner.log" 2>&1
+rc=$?
+cat "$work/runner.log"
+check '[ $rc -eq 0 ]' "runner on spider.obj: exit 0"
+for level in 4 3 2 1 0; do
+  f=$work/levels/spider_LOD$level.ply
+  faces=$( [ -s "$f" ] && element "$f" face)
+  check '[ -n "$faces" ] && [ "$faces" -gt 0 ]' "runner: spider_LOD$level.ply has $faces faces"
+done
+
+# 6. the runner with a prefix lacking our OBJ plugin: a clear error instead of MeshLab's abort
+mkdir -p "$work/noobj/bin" "$work/noobj/lib/x86_64-linux-gnu/meshlab/plugins"
+cp -a "$prefix/bin/meshlabserver" "$work/noobj/bin/"
+cp -a "$prefix/lib/x86_64-linux-gnu/meshlab/libmeshlab-common.so" "$work/noobj/lib/x86_64-linux-gnu/meshlab/"
+cp -a "$prefix/lib/x86_64-linux-gnu/meshlab/plugins/." "$work/noobj/lib/x86_64-linux-gnu/meshlab/plugins/"
+rm -f "$work/noobj/lib/x86_64-linux-gnu/meshlab/plugins/libgausslod_io_obj.so"
+GAUSSLOD_MESHLAB_PREFIX=$work/noobj "$runner" "$objdir/spider.obj" "$work/noobj_levels" \
+  >"$work/runner_noobj.log" 2>&1
+rc=$?
+check '[ $rc -ne 0 ] && [ $rc -ne 134 ] && grep -q "has no libgausslod_io_obj.so" "$work/runner_noobj.log"' \
+  "runner without our OBJ plugin: exit $rc with a message"
+
+# 7. Debian's meshlabserver is left as it was: without our plugin installed it still aborts
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$work/triangle.obj"
+if [ -e /usr/lib/x86_64-linux-gnu/meshlab/plugins/libgausslod_io_obj.so ]; then
+  server system /usr/bin/meshlabserver -i "$work/triangle.obj" -o "$work/system.ply"
+  check '[ $rc -eq 0 ] && [ -s "$work/system.ply" ]' "system meshlabserver with our package: opens OBJ"
+else
+  server system /usr/bin/meshlabserver -i "$work/triangle.obj" -o "$work/system.ply"
+  check '[ $rc -eq 134 ] && grep -q "import_obj.h:640" "$work/system.log"' \
+    "system meshlabserver without our package: unchanged (aborts at import_obj.h:640, exit $rc)"
+fi
+
+if [ $failures -ne 0 ]; then echo "$failures check(s) failed"; exit 1; fi
+echo "all checks passed"
