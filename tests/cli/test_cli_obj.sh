@@ -8,7 +8,7 @@ tool=$1 objdir=$2 work=$3
 rm -rf "$work"; mkdir -p "$work"
 failures=0
 check() { if eval "$1"; then echo "ok: $2"; else echo "FAIL: $2" >&2; failures=$((failures + 1)); fi; }
-input_faces() { "$tool" "$1" "$work/$(basename "$1" .obj)" 2>&1 | awk '$1 == "input" { print $2 }'; }
+input_faces() { "$tool" "$1" "$work/$(basename "$1" .obj)" 2>&1 | awk '$1 == "input" && $2 ~ /^[0-9]+$/ { print $2 }'; }
 
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$work/triangle.obj"
 n=$(input_faces "$work/triangle.obj"); check '[ "$n" = 1 ]' "one triangle read ($n)"
