@@ -23,22 +23,35 @@ inline int32_t heFace(int32_t h) { return h / 3; }
 inline int32_t heNext(int32_t h) { return h - h % 3 + (h % 3 + 1) % 3; }
 inline int32_t hePrev(int32_t h) { return h - h % 3 + (h % 3 + 2) % 3; }
 
-/// Groups n items by a key below nKeys (stable counting sort, linear time): afterwards the
-/// items with key k are order[start[k] .. start[k+1]), in their original order. `key(i)` gives
-/// item i's key.
+/// The one counting sort (CSR) of the engine: `emitAll(emit)` calls emit(key, item) for every
+/// item, key below nKeys, the same sequence each time it is called (twice: to count, then to
+/// fill). Afterwards the items of key k are items[start[k] .. start[k+1]), in emission order.
+template <class Item, class EmitAll>
+void fillBuckets(size_t nKeys, EmitAll emitAll, std::vector<int32_t> &start,
+                 std::vector<Item> &items)
+{
+	start.assign(nKeys + 1, 0);
+	emitAll([&](size_t key, const Item &) { ++start[key + 1]; });
+	for (size_t k = 0; k < nKeys; ++k)
+		start[k + 1] += start[k];
+	items.resize(size_t(start[nKeys]));
+	std::vector<int32_t> fill(start.begin(), start.end() - 1);
+	emitAll([&](size_t key, const Item &item) { items[size_t(fill[key]++)] = item; });
+}
+
+/// Groups n items by a key below nKeys (stable, linear time): afterwards the items with key k
+/// are order[start[k] .. start[k+1]), in their original order. `key(i)` gives item i's key.
 template <class KeyFn>
 void bucketByKey(size_t n, size_t nKeys, KeyFn key, std::vector<int32_t> &start,
                  std::vector<int32_t> &order)
 {
-	start.assign(nKeys + 1, 0);
-	for (size_t i = 0; i < n; ++i)
-		++start[size_t(key(i)) + 1];
-	for (size_t k = 0; k < nKeys; ++k)
-		start[k + 1] += start[k];
-	order.resize(n);
-	std::vector<int32_t> fill(start.begin(), start.end() - 1);
-	for (size_t i = 0; i < n; ++i)
-		order[size_t(fill[size_t(key(i))]++)] = int32_t(i);
+	fillBuckets<int32_t>(
+	    nKeys,
+	    [&](auto emit) {
+		    for (size_t i = 0; i < n; ++i)
+			    emit(size_t(key(i)), int32_t(i));
+	    },
+	    start, order);
 }
 
 /// bucketByKey, then each bucket sorted by `less` (stable; buckets are small in practice).
@@ -89,6 +102,38 @@ inline double pointTriangleDistance2(const Vec3 &p, const Vec3 &a, const Vec3 &b
 		return (bp - (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))).SquaredNorm();
 	const double den = 1.0 / (va + vb + vc);
 	return (ap - ab * (vb * den) - ac * (vc * den)).SquaredNorm();
+}
+
+/// Frees a container's memory (clear() keeps it).
+template <class V>
+void release(V &v)
+{
+	V().swap(v);
+}
+
+/// Angle between two unit vectors, degrees.
+inline double angleDeg(const Vec3 &a, const Vec3 &b)
+{
+	constexpr double kRadToDeg = 57.295779513082320876798;
+	return std::acos(std::max(-1.0, std::min(1.0, a.dot(b)))) * kRadToDeg;
+}
+
+/// Distance from p to the segment a-b.
+inline double pointSegmentDistance(const Vec3 &p, const Vec3 &a, const Vec3 &b)
+{
+	const Vec3 ab = b - a;
+	const double len2 = ab.SquaredNorm();
+	double t = len2 > 0 ? (p - a).dot(ab) / len2 : 0.0;
+	t = std::max(0.0, std::min(1.0, t));
+	return (p - (a + ab * t)).Norm();
+}
+
+/// 2.1 The cell of a face normal at `level`, packed; kInvalidCell for a zero or non-finite one.
+inline CellKey cellOfNormal(const Vec3 &n, int level)
+{
+	const double nn[3] = {n[0], n[1], n[2]};
+	Cell c;
+	return normalToCell(nn, level, c) ? packCell(c) : kInvalidCell;
 }
 
 /// Hashed uniform grid over the valid input faces (each listed in every cell its bounding box

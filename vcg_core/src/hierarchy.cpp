@@ -20,7 +20,6 @@ void superfaceAdjacency(const Topology &t, const Partition &p, std::vector<int32
                         std::vector<int32_t> &adj)
 {
 	const size_t n = p.count();
-	start.assign(n + 1, 0);
 	auto forCrossings = [&](auto fn) { // both directions of every adjacency
 		for (size_t h = 0; h < t.twin.size(); ++h) {
 			const int32_t tw = t.twin[h];
@@ -31,13 +30,9 @@ void superfaceAdjacency(const Topology &t, const Partition &p, std::vector<int32
 				fn(a, b), fn(b, a);
 		}
 	};
-	forCrossings([&](int32_t a, int32_t) { ++start[size_t(a) + 1]; });
-	for (size_t s = 0; s < n; ++s)
-		start[s + 1] += start[s];
-	adj.resize(size_t(start[n]));
-	std::vector<int32_t> fill(start.begin(), start.end() - 1);
-	forCrossings([&](int32_t a, int32_t b) { adj[size_t(fill[size_t(a)]++)] = b; });
-	std::vector<int32_t>().swap(fill);
+	fillBuckets<int32_t>(
+	    n, [&](auto emit) { forCrossings([&](int32_t a, int32_t b) { emit(size_t(a), b); }); },
+	    start, adj);
 	int32_t out = 0;
 	for (size_t s = 0; s < n; ++s) {
 		int32_t *b = adj.data() + start[s], *e = adj.data() + start[s + 1];

@@ -12,13 +12,9 @@ void finestPartition(const Topology &t, int level, Partition &out)
 	out.cell.clear();
 	out.origin.clear();
 	std::vector<CellKey> faceCell(t.nF, kInvalidCell);
-	for (size_t f = 0; f < t.nF; ++f) {
-		Cell c;
-		const Vec3 &n = t.faceNormal[f];
-		const double nn[3] = {n[0], n[1], n[2]};
-		if (t.faceValid[f] && normalToCell(nn, level, c))
-			faceCell[f] = packCell(c);
-	}
+	for (size_t f = 0; f < t.nF; ++f)
+		if (t.faceValid[f])
+			faceCell[f] = cellOfNormal(t.faceNormal[f], level);
 	std::vector<int32_t> stack;
 	for (size_t f0 = 0; f0 < t.nF; ++f0) {
 		if (out.label[f0] >= 0)

@@ -11,14 +11,6 @@ namespace detail {
 
 namespace {
 
-constexpr double kRadToDeg = 57.295779513082320876798;
-
-double angleDeg(const Vec3 &a, const Vec3 &b)
-{
-	const double d = std::max(-1.0, std::min(1.0, a.dot(b)));
-	return std::acos(d) * kRadToDeg;
-}
-
 void computeFaces(Topology &t, size_t threads)
 {
 	t.faceNormal.assign(t.nF, Vec3(0, 0, 0));
@@ -45,19 +37,15 @@ void computeFaces(Topology &t, size_t threads)
 // Vertex -> faces (CSR) over the faces that are not dropped.
 void buildVertexFaces(Topology &t)
 {
-	t.vfStart.assign(t.nV + 1, 0);
-	for (size_t f = 0; f < t.nF; ++f)
-		if (!t.faceDropped[f])
-			for (int k = 0; k < 3; ++k)
-				++t.vfStart[size_t(t.T[3 * f + size_t(k)]) + 1];
-	for (size_t v = 0; v < t.nV; ++v)
-		t.vfStart[v + 1] += t.vfStart[v];
-	t.vfFace.resize(size_t(t.vfStart[t.nV]));
-	std::vector<int32_t> fill(t.vfStart.begin(), t.vfStart.end() - 1);
-	for (size_t f = 0; f < t.nF; ++f)
-		if (!t.faceDropped[f])
-			for (int k = 0; k < 3; ++k)
-				t.vfFace[size_t(fill[size_t(t.T[3 * f + size_t(k)])]++)] = int32_t(f);
+	fillBuckets<int32_t>(
+	    t.nV,
+	    [&](auto emit) {
+		    for (size_t f = 0; f < t.nF; ++f)
+			    if (!t.faceDropped[f])
+				    for (int k = 0; k < 3; ++k)
+					    emit(size_t(t.T[3 * f + size_t(k)]), int32_t(f));
+	    },
+	    t.vfStart, t.vfFace);
 }
 
 // The vertices of face f rotated so that the smallest comes first (orientation kept).
@@ -331,18 +319,16 @@ void buildFaceGrid(Topology &t)
 	while (buckets < valid)
 		buckets <<= 1;
 	g.mask = buckets - 1;
-	g.start.assign(buckets + 1, 0);
-	for (size_t f = 0; f < t.nF; ++f)
-		if (t.faceValid[f] && !forCells(f, [&](uint64_t c) { ++g.start[c + 1]; }))
-			g.big.push_back(int32_t(f));
-	for (size_t c = 0; c < buckets; ++c)
-		g.start[c + 1] += g.start[c];
-	g.face.resize(size_t(g.start[buckets]));
-	std::vector<int32_t> fill(g.start.begin(), g.start.end() - 1);
-	for (size_t f = 0; f < t.nF; ++f)
-		if (t.faceValid[f])
-			forCells(f, [&](uint64_t c) { g.face[size_t(fill[c]++)] = int32_t(f); });
-	std::vector<int32_t>().swap(fill);
+	// (the big faces are the same on both passes)
+	fillBuckets<int32_t>(
+	    buckets,
+	    [&](auto emit) {
+		    g.big.clear();
+		    for (size_t f = 0; f < t.nF; ++f)
+			    if (t.faceValid[f] && !forCells(f, [&](uint64_t c) { emit(c, int32_t(f)); }))
+				    g.big.push_back(int32_t(f));
+	    },
+	    g.start, g.face);
 	// each bucket's normal cone: the mean normal, rounded to int8 (the bound is measured from
 	// the rounded axis), and s / 254 >= sin of the widest angle from it, rounded up with a
 	// margin of one step (far above the rounding of the dot products that use it)

@@ -1,0 +1,276 @@
+// Fallback rounds (beyond the paper, which assumes every superface re-triangulates validly): a
+// failed superface is retried with tighter tolerances, then with its border locked, then split
+// into its superfaces of the next finer level (down to the input faces, always valid). The next
+// round rebuilds only what changed and reuses the other superfaces' triangles.
+#include "level_passes.h"
+
+namespace gausslod {
+namespace detail {
+
+namespace {
+
+// Decides each failed superface's fallback: after a deviation failure first its chains are
+// straightened and merged again with a quarter of the tolerances, up to kMaxTolSteps times; else
+// its border is locked (no straightening, no merging); if it still fails, or its projection
+// folds, it is split; a single input face that fails gets its vertices locked (it is then kept as
+// it is). Returns the split flags per superface.
+void chooseFallbacks(const Topology &t, const SuperfaceFaces &faces, const FailedList &failed,
+                     const Borders &b, FallbackState &fb, std::vector<uint8_t> &split)
+{
+	auto lock = [&](int32_t v) {
+		if (!fb.extraLock[size_t(v)]) {
+			fb.extraLock[size_t(v)] = 1;
+			fb.lockedNow.push_back(v);
+		}
+	};
+	for (const auto &sf : failed) {
+		const int32_t s = sf.first;
+		const int32_t fbeg = faces.begin(s), fend = faces.end(s);
+		fb.failedFace.push_back(faces.face[size_t(fbeg)]);
+		bool allLocked = true;
+		for (int32_t i = fbeg; i < fend; ++i)
+			for (int k = 0; k < 3; ++k) {
+				const int32_t h = 3 * faces.face[size_t(i)] + k;
+				if (b.border[size_t(h)] && !b.junction[size_t(t.heFrom(h))])
+					allLocked = false;
+			}
+		const int step = fb.tolStep[size_t(faces.face[size_t(fbeg)])];
+		if (fend - fbeg > 1 && sf.second == Failure::Deviation && !allLocked && step < kMaxTolSteps) {
+			for (int32_t i = fbeg; i < fend; ++i) {
+				const int32_t f = faces.face[size_t(i)];
+				fb.tolStep[size_t(f)] = uint8_t(step + 1);
+				for (int k = 0; k < 3; ++k)
+					if (b.border[size_t(3 * f + k)])
+						fb.retightened.push_back(t.heFrom(3 * f + k));
+			}
+		} else if (fend - fbeg == 1 ||
+		           (sf.second != Failure::Fold && sf.second != Failure::Distance && !allLocked)) {
+			for (int32_t i = fbeg; i < fend; ++i)
+				for (int k = 0; k < 3; ++k) {
+					const int32_t h = 3 * faces.face[size_t(i)] + k;
+					if (b.border[size_t(h)])
+						lock(t.heFrom(h));
+				}
+			if (fend - fbeg == 1)
+				for (int k = 0; k < 3; ++k)
+					lock(t.T[3 * faces.face[size_t(fbeg)] + k]);
+		} else {
+			split[size_t(s)] = 1;
+		}
+	}
+}
+
+// The faces of the split superfaces take new superfaces (appended to p.cell and p.origin): their
+// superfaces of the finer partition, or the input faces themselves. parentOf[i] = the superface
+// split into new superface base + i.
+void splitIntoChildren(const Topology &t, const std::vector<Partition> &finer,
+                       const SuperfaceFaces &faces, const std::vector<uint8_t> &split,
+                       Partition &p, std::vector<int32_t> &relabeled, std::vector<int32_t> &parentOf)
+{
+	const int finest = int(finer.size()) - 1;
+	const size_t base = p.count();
+	std::vector<int32_t> childMap; // finer label -> new label (per origin level)
+	std::vector<int32_t> touched;
+	auto add = [&](CellKey cell, int8_t origin, size_t parent) {
+		p.cell.push_back(cell);
+		p.origin.push_back(origin);
+		parentOf.push_back(int32_t(parent));
+		return int32_t(p.cell.size() - 1);
+	};
+	for (size_t s = 0; s < base; ++s) {
+		if (!split[s])
+			continue;
+		const int o = p.origin[s];
+		for (int32_t i = faces.start[s]; i < faces.start[s + 1]; ++i) {
+			const int32_t f = faces.face[size_t(i)];
+			int32_t id;
+			if (o == -1 || o >= finest) { // children are the input faces
+				id = add(cellOfNormal(t.faceNormal[size_t(f)], p.level), -1, s);
+			} else {
+				// children: the parts of a cross-cell union, or the next finer level's
+				const bool parts = o <= -2;
+				const Partition &fp = finer[size_t(parts ? mergedLevel(int8_t(o)) : o + 1)];
+				const std::vector<int32_t> &label = parts ? fp.partLabel : fp.label;
+				const std::vector<CellKey> &cells = parts ? fp.partCell : fp.cell;
+				const std::vector<int8_t> &origins = parts ? fp.partOrigin : fp.origin;
+				const int32_t child = label[size_t(f)];
+				if (childMap.size() < cells.size())
+					childMap.resize(cells.size(), -1);
+				id = childMap[size_t(child)];
+				if (id < 0) {
+					CellKey k = cells[size_t(child)];
+					for (int l = fp.level; l > p.level && k != kInvalidCell; --l)
+						k = parentKey(k);
+					id = childMap[size_t(child)] = add(k, origins[size_t(child)], s);
+					touched.push_back(child);
+				}
+			}
+			p.label[size_t(f)] = id;
+			relabeled.push_back(f);
+		}
+		for (int32_t c : touched)
+			childMap[size_t(c)] = -1;
+		touched.clear();
+	}
+}
+
+// Canonical ids after a split (by first face, see Partition::label: a superface not split keeps
+// its first face, a new one's is the first of its faces in its parent's ascending range), each
+// superface's id in the round that failed or the id of the superface split into it (prevOf), and
+// the next round's faces per superface (what groupFaces gives): runs of superfaces not split keep
+// their block of faces, the children of a split superface take theirs from its range. `base`:
+// superfaces before the split.
+void renumber(const Topology &t, size_t base, const std::vector<uint8_t> &split,
+              const std::vector<int32_t> &parentOf, size_t threads, Partition &p,
+              SuperfaceFaces &faces, std::vector<int32_t> &prevOf, FallbackArrays &spare)
+{
+	const size_t temps = p.count() - base;
+	std::vector<int32_t> childSize(temps, 0); // (then: where its next face goes)
+	std::vector<std::pair<int32_t, int32_t>> firsts; // (first face, new superface)
+	size_t nSplit = 0;
+	for (size_t s = 0; s < base; ++s) {
+		if (!split[s])
+			continue;
+		++nSplit;
+		for (int32_t i = faces.start[s]; i < faces.start[s + 1]; ++i) {
+			const int32_t f = faces.face[size_t(i)];
+			const size_t c = size_t(p.label[size_t(f)]) - base;
+			if (childSize[c]++ == 0)
+				firsts.emplace_back(f, int32_t(base + c));
+		}
+	}
+	std::sort(firsts.begin(), firsts.end());
+	const size_t ns = base - nSplit + temps;
+	std::vector<int32_t> &remap = spare.remap, &start = spare.start, &face = spare.face;
+	remap.assign(p.count(), -1);
+	spare.cell.clear(), spare.origin.clear(), prevOf.clear();
+	spare.cell.reserve(ns), spare.origin.reserve(ns), prevOf.reserve(ns);
+	start.resize(ns + 1), face.resize(t.nF);
+	start[0] = 0;
+	auto add = [&](int32_t old, int32_t prev, int32_t count) {
+		const int32_t n = int32_t(spare.cell.size());
+		remap[size_t(old)] = n;
+		spare.cell.push_back(p.cell[size_t(old)]);
+		spare.origin.push_back(p.origin[size_t(old)]);
+		prevOf.push_back(prev);
+		start[size_t(n) + 1] = start[size_t(n)] + count;
+	};
+	size_t ci = 0;
+	auto addChildrenBefore = [&](int32_t firstFace) { // (new superfaces that come first)
+		for (; ci < firsts.size() && firsts[ci].first < firstFace; ++ci) {
+			const int32_t c = firsts[ci].second;
+			add(c, parentOf[size_t(c) - base], childSize[size_t(c) - base]);
+		}
+	};
+	for (size_t o = 0; o < base; ++o)
+		if (!split[o]) {
+			addChildrenBefore(faces.face[size_t(faces.start[o])]);
+			add(int32_t(o), int32_t(o), faces.start[o + 1] - faces.start[o]);
+		}
+	addChildrenBefore(INT32_MAX);
+	for (size_t o = 0; o < base;) { // runs of consecutive superfaces not split
+		if (split[o]) {
+			++o;
+			continue;
+		}
+		size_t e = o + 1;
+		while (e < base && !split[e] && remap[e] == remap[e - 1] + 1)
+			++e;
+		std::copy(faces.face.begin() + faces.start[o], faces.face.begin() + faces.start[e],
+		          face.begin() + start[size_t(remap[o])]);
+		o = e;
+	}
+	for (size_t c = 0; c < temps; ++c)
+		childSize[c] = start[size_t(remap[base + c])];
+	for (size_t s = 0; s < base; ++s)
+		if (split[s])
+			for (int32_t i = faces.start[s]; i < faces.start[s + 1]; ++i) {
+				const int32_t f = faces.face[size_t(i)];
+				face[size_t(childSize[size_t(p.label[size_t(f)]) - base]++)] = f;
+			}
+	parallelRanges(t.nF, threads, [&](size_t b, size_t e, size_t) {
+		for (size_t f = b; f < e; ++f)
+			p.label[f] = remap[size_t(p.label[f])];
+	});
+	p.cell.swap(spare.cell), p.origin.swap(spare.origin);
+	faces.start.swap(start), faces.face.swap(face);
+}
+
+uint64_t directedEdge(int32_t a, int32_t b) { return uint64_t(uint32_t(a)) << 32 | uint32_t(b); }
+
+} // namespace
+
+void applyFallbacks(const Topology &t, const std::vector<Partition> &finer, const FailedList &failed,
+                    const Borders &b, size_t threads, Partition &p, SuperfaceFaces &faces,
+                    FallbackState &fb, ReuseCache &cache, FallbackArrays &spare)
+{
+	// `faces` is that of the round that just failed: labels have not changed yet
+	spare.split.assign(p.count(), 0);
+	fb.relabeled.clear(), fb.failedFace.clear(), fb.lockedNow.clear(), fb.retightened.clear();
+	chooseFallbacks(t, faces, failed, b, fb, spare.split);
+	const size_t base = p.count();
+	std::vector<int32_t> parentOf; // new superface base + i -> the superface split into it
+	splitIntoChildren(t, finer, faces, spare.split, p, fb.relabeled, parentOf);
+	if (p.count() == base) {
+		// nothing split: labels, cells, origins and face lists stay
+		cache.prevOf.resize(base);
+		for (size_t o = 0; o < base; ++o)
+			cache.prevOf[o] = int32_t(o);
+		return;
+	}
+	renumber(t, base, spare.split, parentOf, threads, p, faces, cache.prevOf, spare);
+}
+
+// The previous round's triangles of a superface are reused when its faces are the same (its first
+// face's previous superface, and as many faces: partitions only get finer between rounds) and its
+// border edges (the triangles' border-flagged edges, directed with the superface on their left)
+// are this round's ring edges between kept vertices: every successful triangulation has exactly
+// its rings' edges as border edges, so this compares the kept outlines without storing them (as a
+// multiset: a different ring start or order would describe the same domain).
+bool reuseTriangles(const TriangulationInput &in, int32_t s, const Cached &now,
+                    const ReuseCache &cache, Scratch &w, ChunkOut &o)
+{
+	if (cache.prev.empty())
+		return false;
+	const Cached &c = cache.prev[size_t(cache.prevOf[size_t(s)])];
+	if (!c.ok || c.faceCount != now.faceCount) // (same count, same faces: see above)
+		return false;
+	w.edgesBefore.clear();
+	for (int32_t k = c.triBegin; k < c.triEnd; ++k)
+		for (int e = 0; e < 3; ++e)
+			if (cache.triBorder[size_t(k)] & (1u << e))
+				w.edgesBefore.push_back(directedEdge(cache.tris[3 * size_t(k) + size_t(e)],
+				                                     cache.tris[3 * size_t(k) + size_t(e + 1) % 3]));
+	w.edgesNow.clear();
+	for (int32_t r = in.rings.sfStart[size_t(s)]; r < in.rings.sfStart[size_t(s) + 1]; ++r) {
+		int32_t first = -1, prev = -1;
+		for (int32_t i = in.rings.start[size_t(r)]; i < in.rings.start[size_t(r) + 1]; ++i) {
+			const int32_t v = in.t.heFrom(in.rings.he[size_t(i)]);
+			if (!in.b.keep[size_t(v)])
+				continue;
+			if (prev >= 0)
+				w.edgesNow.push_back(directedEdge(prev, v));
+			else
+				first = v;
+			prev = v;
+		}
+		if (prev >= 0)
+			w.edgesNow.push_back(directedEdge(prev, first));
+		if (w.edgesNow.size() > w.edgesBefore.size())
+			return false;
+	}
+	if (w.edgesNow.size() != w.edgesBefore.size())
+		return false;
+	std::sort(w.edgesNow.begin(), w.edgesNow.end());
+	std::sort(w.edgesBefore.begin(), w.edgesBefore.end());
+	if (w.edgesNow != w.edgesBefore)
+		return false;
+	o.tris.insert(o.tris.end(), cache.tris.begin() + 3 * c.triBegin, cache.tris.begin() + 3 * c.triEnd);
+	o.triBorder.insert(o.triBorder.end(), cache.triBorder.begin() + c.triBegin,
+	                   cache.triBorder.begin() + c.triEnd);
+	o.retriangulated += c.retriangulated; // (its faces keep their deviations)
+	return true;
+}
+
+} // namespace detail
+} // namespace gausslod

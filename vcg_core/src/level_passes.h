@@ -1,0 +1,268 @@
+// The passes that build one level's geometry from its partition, and the plain structs that
+// carry state between them. A pass takes what it reads as const and what it writes as non-const:
+//   border_rings.cpp            2.2.2  borders, junctions, rings of every superface
+//   straighten_merge.cpp        2.3    straightening (2.3.1) and vicinity merging (2.3.2)
+//   superface_triangulation.cpp 2.4    re-triangulation of one superface and its checks
+//   distance_check.cpp          2.4    the distance tolerance (beyond the paper)
+//   level_check.cpp                    the whole-level edge check
+//   fallbacks.cpp                      fallback rounds: retry, lock, split; reuse of triangles
+//   level_geometry.cpp                 the rounds of one level, and its output
+#pragma once
+
+#include "engine.h"
+
+#include <atomic>
+#include <utility>
+
+namespace gausslod {
+namespace detail {
+
+constexpr int kMaxRounds = 64;
+// A superface that fails with straightened borders gets them straightened again with a quarter
+// of the tolerances (kTolShift = 2), up to this many times, before its border vertices are locked.
+constexpr int kMaxTolSteps = 2;
+constexpr int kTolShift = 2;
+
+/// The limits of one level, derived once from Params (levelLimits, level_geometry.cpp).
+struct LevelLimits {
+	double tolerance = 0;     ///< straightening tolerance (2.3.1), at least `exact`
+	double mergeDistance = 0; ///< vicinity merge distance (2.3.2); 0 = no merging
+	double devLimitDeg = 180; ///< normal-deviation limit of the level; 180 = none
+	double maxDistance = 0;   ///< distance tolerance; 0 = none
+	double exact = 0;         ///< below this, a vertex counts as exactly on its chain
+};
+LevelLimits levelLimits(const Params &params, double diagonal, int level);
+
+/// Why a superface failed: Fold (its projection folds, or its rings could not be traced) goes
+/// straight to the split; Deviation (an input face deviates from its new triangle more than the
+/// limit, or a removed border vertex is beyond the distance tolerance) first retries with
+/// tighter straightening; Distance (an input face beyond the distance tolerance) goes straight
+/// to the split; Ring (anything else) first locks the border.
+enum class Failure : uint8_t { None, Ring, Fold, Deviation, Distance };
+using FailedList = std::vector<std::pair<int32_t, Failure>>; ///< (superface, why)
+
+/// Superface -> its input faces (CSR), ascending.
+struct SuperfaceFaces {
+	std::vector<int32_t> start, face;
+	int32_t begin(int32_t s) const { return start[size_t(s)]; }
+	int32_t end(int32_t s) const { return start[size_t(s) + 1]; }
+};
+
+/// Border state of a round (2.2.2) and the vertices the simplified borders keep (2.3).
+struct Borders {
+	static constexpr uint8_t kVisited = 2;
+	std::vector<uint8_t> border;   ///< per half-edge: 1 = border (| kVisited while tracing)
+	std::vector<int32_t> degree;   ///< border edges per vertex
+	std::vector<uint8_t> junction; ///< per vertex: a chain ends here
+	std::vector<uint8_t> keep;     ///< per vertex: kept by the simplified borders
+	std::vector<uint8_t> changed;  ///< patch round: degree or junction status changed
+	std::vector<int32_t> changedList; ///< the vertices marked in `changed`
+};
+
+/// What the fallbacks of a level accumulate, and what the last ones changed (the inputs of the
+/// next, patch, round).
+struct FallbackState {
+	std::vector<uint8_t> extraLock; ///< per vertex: locked by a fallback
+	std::vector<uint8_t> tolStep;   ///< per face: its superface's tolerances were divided by 4
+	                                ///< this many times
+	std::vector<int32_t> relabeled;   ///< faces whose superface the last fallbacks split
+	std::vector<int32_t> failedFace;  ///< a face of each superface that failed last round
+	std::vector<int32_t> lockedNow;   ///< vertices the last fallbacks locked
+	std::vector<int32_t> retightened; ///< border vertices of superfaces given tighter tolerances
+};
+
+inline bool isJunction(const Topology &t, const Borders &b, const FallbackState &fb, size_t v)
+{
+	return b.degree[v] > 0 && (b.degree[v] != 2 || t.vertexLocked[v] || fb.extraLock[v]);
+}
+
+/// The border rings of a round: ring r = he[start[r] .. start[r+1]); superface s has the rings
+/// sfStart[s] .. sfStart[s+1].
+struct Rings {
+	std::vector<int32_t> he, start, sfStart;
+	std::vector<uint8_t> broken; ///< per superface: its rings could not be traced
+};
+
+/// A chain of border edges between two junction vertices (or a closed loop with none), stored as
+/// a range of a ring. Only one of the (up to) two superfaces sharing it processes it.
+struct Piece {
+	int32_t ring, start, len; ///< ring index, first position in the ring, number of edges
+	int32_t a, b;             ///< end vertices (a == b for a closed chain)
+	bool loop;                ///< a ring without any junction
+	int8_t minInterior;       ///< interior vertices to keep at least (keeps rings non-degenerate)
+	int32_t kept = 0;         ///< interior vertices kept after simplification
+};
+
+/// A triangle's flags: bit k = edge (k, k+1) is a superface border; kNewTriangle = made by
+/// re-triangulation (not an input face).
+constexpr uint8_t kBorderBits = 7, kNewTriangle = 8;
+
+/// What one chunk of consecutive superfaces produces; chunks are concatenated in order, so the
+/// result does not depend on how many threads ran them.
+struct ChunkOut {
+	std::vector<int32_t> tris;      ///< (the superface of a triangle is known from its range)
+	std::vector<uint8_t> triBorder; ///< border edge bits | kNewTriangle
+	FailedList failed;
+	std::vector<Piece> straight; ///< pieces left straight (see straightenBorders)
+	std::vector<int32_t> ringHE, ringStart, sfRings; ///< traced rings (until concatenated)
+	size_t retriangulated = 0;
+	size_t failedTris = 0; ///< triangles the failed superfaces had made (at least 1 each)
+
+	void emit(int32_t a, int32_t b, int32_t c, uint8_t borderBits, bool isNew)
+	{
+		tris.push_back(a), tris.push_back(b), tris.push_back(c);
+		triBorder.push_back(uint8_t(borderBits | (isNew ? kNewTriangle : 0)));
+	}
+	void truncate(size_t triCount) ///< rolls back what a failed superface emitted
+	{
+		tris.resize(3 * triCount);
+		triBorder.resize(triCount);
+	}
+};
+
+/// Per-thread scratch.
+struct Scratch {
+	TriangulationJob job;
+	std::vector<int32_t> ringVerts, ringVertStart, seq, stack;
+	std::vector<uint64_t> edgesNow, edgesBefore; // directed border edges (see reuse)
+	std::vector<Vec3> triNormal, centroid;
+	std::vector<double> ownDist2;
+	std::vector<uint8_t> covered;
+	// distance tolerance: each vertex of a superface's faces located once
+	std::vector<int32_t> vertQuery;   ///< per input vertex: its query, -1 between superfaces
+	std::vector<int32_t> cornerQuery; ///< per face corner of the superface: its vertex's query
+	std::vector<int32_t> touched;     ///< the vertices given a query (to reset vertQuery)
+};
+
+/// The work of a round cut in chunks of consecutive superfaces of about the same number of
+/// faces (several per thread, for balance), run on up to `threads` threads.
+struct Chunks {
+	size_t threads = 1;
+	std::vector<Scratch> scratch;  ///< per thread
+	std::vector<int32_t> start;    ///< chunk c = superfaces [start[c], start[c+1])
+	std::vector<ChunkOut> out;     ///< per chunk
+
+	void make(const SuperfaceFaces &faces, size_t superfaces, size_t nF);
+	/// Runs fn(chunk, scratch) for every chunk; the first exception is rethrown.
+	template <class Fn>
+	void forEach(Fn fn)
+	{
+		const size_t n = start.size() - 1;
+		std::atomic<size_t> next(0);
+		std::atomic<bool> failed(false); // (the others stop early; the error is rethrown)
+		onWorkers(std::min(threads, n), [&](size_t w) {
+			try {
+				for (size_t c; !failed && (c = next++) < n;)
+					fn(c, scratch[w]);
+			} catch (...) {
+				failed = true;
+				throw;
+			}
+		});
+	}
+};
+
+/// Per input face measurements, kept across rounds (a superface rebuilt resets its faces).
+struct FaceMeasures {
+	std::vector<float> dev; ///< normal deviation, degrees; -1 = not measured
+	std::vector<float> gap; ///< distance measured by the tolerance check (maxDistance > 0 only)
+};
+
+/// A superface's triangles in a round: a range of that round's triangle arrays.
+struct Cached {
+	int32_t faceCount = 0;
+	int32_t triBegin = 0, triEnd = 0;
+	bool ok = false, retriangulated = false;
+};
+
+/// The previous round's triangles, for the superfaces a fallback round does not change.
+struct ReuseCache {
+	std::vector<Cached> prev;      ///< per superface of the previous round
+	std::vector<int32_t> prevOf;   ///< per superface: its (or its parent's) previous id
+	std::vector<int32_t> tris;     ///< the previous round's triangles
+	std::vector<uint8_t> triBorder;
+};
+
+// ---- 2.2.2 borders and rings (border_rings.cpp)
+
+/// Groups the faces by superface.
+void groupFaces(const Partition &p, SuperfaceFaces &out);
+/// Border half-edges, border degree and junctions of a full round; every junction is kept.
+void findBorders(const Topology &t, const Partition &p, const FallbackState &fb, size_t threads,
+                 Borders &b);
+/// Patch round: updates the borders at what the last fallbacks changed; marks the vertices
+/// whose degree or junction status changed (b.changed, b.changedList).
+void updateBorders(const Topology &t, const Partition &p, const FallbackState &fb, Borders &b);
+/// Traces the rings of the `dirty` superfaces (per chunk, concatenated in superface order).
+void traceRings(const Topology &t, const SuperfaceFaces &faces, const std::vector<uint8_t> &dirty,
+                Chunks &chunks, Borders &b, Rings &rings);
+
+// ---- 2.3 straightening and vicinity merging (straighten_merge.cpp)
+
+/// Inputs of the chain simplification of a round.
+struct ChainInput {
+	const Topology &t;
+	const Partition &p;
+	const LevelLimits &limits;
+	const std::vector<uint8_t> &tolStep; ///< FallbackState::tolStep
+	const Rings &rings;
+	const std::vector<uint8_t> &dirty; ///< superfaces rebuilt this round
+	bool patch;                        ///< only the chains through a changed vertex
+};
+/// Cuts the rings into chains between junctions, simplifies each (sets b.keep), then keeps an
+/// interior vertex on all but one of the chains with the same two ends.
+void straightenBorders(const ChainInput &in, Chunks &chunks, Borders &b);
+
+// ---- 2.4 re-triangulation of a superface (superface_triangulation.cpp, distance_check.cpp)
+
+/// What the re-triangulation of a round's superfaces reads.
+struct TriangulationInput {
+	const Topology &t;
+	const Partition &p;
+	const SuperfaceFaces &faces;
+	const Borders &b;
+	const Rings &rings;
+	const LevelLimits &limits;
+};
+/// Re-triangulates superface s into o (or copies its input faces when every vertex is kept) and
+/// checks it; writes the measures of its faces only.
+Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, ChunkOut &o,
+                      FaceMeasures &measures);
+/// The distance tolerance on superface s, just triangulated from triangle firstTri of o.
+Failure distanceCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
+                      const Scratch &w, const ChunkOut &o, std::vector<float> &gap);
+
+// ---- whole-level check (level_check.cpp)
+
+/// The triangles of a round, in superface order.
+struct LevelTriangles {
+	std::vector<int32_t> tris;
+	std::vector<int32_t> triSf;     ///< superface per triangle
+	std::vector<uint8_t> triBorder; ///< border edge bits | kNewTriangle
+};
+/// Fails (Ring) the superfaces of new triangles on an edge used more often than in the input, or
+/// twice in the same direction where the input had it right.
+void checkLevelEdges(const Topology &t, size_t superfaces, const LevelTriangles &lt,
+                     FailedList &failed, size_t &failedTris);
+
+// ---- fallback rounds and reuse (fallbacks.cpp)
+
+/// Arrays of applyFallbacks kept for the next rounds (fresh ones cost more in page faults).
+struct FallbackArrays {
+	std::vector<uint8_t> split;
+	std::vector<int32_t> remap, start, face;
+	std::vector<CellKey> cell;
+	std::vector<int8_t> origin;
+};
+/// Retries, locks or splits each failed superface; relabels p and regroups `faces` for the next
+/// round; sets cache.prevOf.
+void applyFallbacks(const Topology &t, const std::vector<Partition> &finer, const FailedList &failed,
+                    const Borders &b, size_t threads, Partition &p, SuperfaceFaces &faces,
+                    FallbackState &fb, ReuseCache &cache, FallbackArrays &spare);
+/// Copies superface s's triangles of the previous round into o if its faces and its kept
+/// outline are the same.
+bool reuseTriangles(const TriangulationInput &in, int32_t s, const Cached &now,
+                    const ReuseCache &cache, Scratch &w, ChunkOut &o);
+
+} // namespace detail
+} // namespace gausslod

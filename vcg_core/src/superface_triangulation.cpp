@@ -1,0 +1,283 @@
+// 2.4 Re-triangulating a superface: its kept ring vertices are projected on the plane orthogonal
+// to its area-weighted normal and triangulated (constrained Delaunay, delaunay_rings.cpp); then
+// the result is checked: every input face against the triangle over its centroid (normal
+// deviation limit, no flip), every triangle against the input surface nearest to it (no flip at
+// thin parts), and the distance tolerance if set (distance_check.cpp).
+#include "level_passes.h"
+
+namespace gausslod {
+namespace detail {
+
+namespace {
+
+// Every vertex of the superface kept (or an invalid input face): the input faces are the
+// triangulation.
+void copyInputFaces(const TriangulationInput &in, int32_t s, bool frozen, ChunkOut &o,
+                    FaceMeasures &m)
+{
+	const Topology &t = in.t;
+	for (int32_t i = in.faces.begin(s); i < in.faces.end(s); ++i) {
+		const int32_t f = in.faces.face[size_t(i)];
+		if (frozen) {
+			if (!t.faceDropped[size_t(f)])
+				o.emit(t.T[3 * f], t.T[3 * f + 1], t.T[3 * f + 2], 7, false);
+			continue;
+		}
+		uint8_t bits = 0;
+		for (int k = 0; k < 3; ++k)
+			bits |= uint8_t(in.b.border[size_t(3 * f + k)] << k);
+		o.emit(t.T[3 * f], t.T[3 * f + 1], t.T[3 * f + 2], bits, false);
+		m.dev[size_t(f)] = 0;
+	}
+}
+
+// The kept vertices of superface s's rings, ring by ring; false if a ring keeps fewer than 3.
+bool keptRingVertices(const TriangulationInput &in, int32_t s, Scratch &w)
+{
+	w.ringVerts.clear();
+	w.ringVertStart.assign(1, 0);
+	for (int32_t r = in.rings.sfStart[size_t(s)]; r < in.rings.sfStart[size_t(s) + 1]; ++r) {
+		for (int32_t i = in.rings.start[size_t(r)]; i < in.rings.start[size_t(r) + 1]; ++i) {
+			const int32_t v = in.t.heFrom(in.rings.he[size_t(i)]);
+			if (in.b.keep[size_t(v)])
+				w.ringVerts.push_back(v);
+		}
+		if (int32_t(w.ringVerts.size()) - w.ringVertStart.back() < 3)
+			return false;
+		w.ringVertStart.push_back(int32_t(w.ringVerts.size()));
+	}
+	return w.ringVertStart.size() >= 2;
+}
+
+// The triangulation job of superface s on the plane orthogonal to N (U x V = N): its kept ring
+// vertices, the centroid of each of its faces as a query, and with the distance tolerance every
+// vertex of its faces once (see distanceCheck).
+void projectSuperface(const TriangulationInput &in, int32_t s, const Vec3 &N, Scratch &w)
+{
+	const Topology &t = in.t;
+	const int32_t fb = in.faces.begin(s), fe = in.faces.end(s);
+	const Vec3 U = (std::fabs(N[0]) < 0.9 ? N ^ Vec3(1, 0, 0) : N ^ Vec3(0, 1, 0)).Normalize();
+	const Vec3 V = N ^ U;
+	const Vec3 origin = t.pos(w.ringVerts[0]);
+	auto project = [&](const Vec3 &p, double *xy) {
+		const Vec3 q = p - origin;
+		xy[0] = q.dot(U), xy[1] = q.dot(V);
+	};
+	w.job.xy.resize(2 * w.ringVerts.size());
+	for (size_t i = 0; i < w.ringVerts.size(); ++i)
+		project(t.pos(w.ringVerts[i]), &w.job.xy[2 * i]);
+	w.job.ringStart = w.ringVertStart;
+	w.job.queryXY.resize(2 * size_t(fe - fb));
+	for (int32_t i = fb; i < fe; ++i) {
+		const int32_t f = in.faces.face[size_t(i)];
+		const Vec3 c = (t.pos(t.T[3 * f]) + t.pos(t.T[3 * f + 1]) + t.pos(t.T[3 * f + 2])) / 3.0;
+		project(c, &w.job.queryXY[2 * size_t(i - fb)]);
+	}
+	if (!(in.limits.maxDistance > 0))
+		return;
+	if (w.vertQuery.size() != t.nV)
+		w.vertQuery.assign(t.nV, -1);
+	w.cornerQuery.resize(3 * size_t(fe - fb));
+	int32_t next = 0;
+	for (int32_t i = fb; i < fe; ++i)
+		for (int k = 0; k < 3; ++k) {
+			const int32_t v = t.T[3 * in.faces.face[size_t(i)] + k];
+			int32_t &q = w.vertQuery[size_t(v)];
+			if (q < 0) {
+				q = next++;
+				w.touched.push_back(v);
+				double xy[2];
+				project(t.pos(v), xy);
+				w.job.queryXY.push_back(xy[0]);
+				w.job.queryXY.push_back(xy[1]);
+			}
+			w.cornerQuery[3 * size_t(i - fb) + size_t(k)] = q;
+		}
+	for (const int32_t v : w.touched)
+		w.vertQuery[size_t(v)] = -1;
+	w.touched.clear();
+}
+
+double faceDist2(const Topology &t, const Vec3 &p, int32_t f)
+{
+	return pointTriangleDistance2(p, t.pos(t.T[3 * f]), t.pos(t.T[3 * f + 1]), t.pos(t.T[3 * f + 2]));
+}
+
+// Normals and centroids of the new triangles (from firstTri); false if one is degenerate.
+bool triangleFrames(const Topology &t, const ChunkOut &o, size_t firstTri, Scratch &w)
+{
+	const size_t ntri = o.tris.size() / 3 - firstTri;
+	w.triNormal.resize(ntri);
+	for (size_t k = 0; k < ntri; ++k) {
+		const int32_t *v = &o.tris[3 * (firstTri + k)];
+		Vec3 n = (t.pos(v[1]) - t.pos(v[0])) ^ (t.pos(v[2]) - t.pos(v[0]));
+		if (!(n.Norm() > 0))
+			return false;
+		w.triNormal[k] = n / n.Norm();
+	}
+	w.covered.assign(ntri, 0);
+	w.centroid.resize(ntri);
+	w.ownDist2.assign(ntri, HUGE_VAL);
+	for (size_t k = 0; k < ntri; ++k) {
+		const int32_t *v = &o.tris[3 * (firstTri + k)];
+		w.centroid[k] = (t.pos(v[0]) + t.pos(v[1]) + t.pos(v[2])) / 3.0;
+	}
+	return true;
+}
+
+// The measured normal deviation: each input face against the triangle its centroid falls in; a
+// triangle flipped (> 90 deg) or beyond the level's limit fails.
+bool deviationWithinLimit(const TriangulationInput &in, int32_t s, size_t ntri, Scratch &w,
+                          FaceMeasures &m)
+{
+	const Topology &t = in.t;
+	const int32_t fb = in.faces.begin(s);
+	for (int32_t i = fb; i < in.faces.end(s); ++i) {
+		const int32_t f = in.faces.face[size_t(i)];
+		const int32_t k = ntri == 1 ? 0 : w.job.queryTri[size_t(i - fb)];
+		if (k < 0)
+			continue;
+		const double d = angleDeg(t.faceNormal[size_t(f)], w.triNormal[size_t(k)]);
+		if (d > 90 || d > in.limits.devLimitDeg)
+			return false;
+		m.dev[size_t(f)] = float(d);
+		w.covered[size_t(k)] = 1;
+		w.ownDist2[size_t(k)] =
+		    std::min(w.ownDist2[size_t(k)], faceDist2(t, w.centroid[size_t(k)], f));
+	}
+	return true;
+}
+
+// A triangle that covers no input face centroid is checked against the faces of the superface
+// around its corners.
+bool uncoveredFacing(const TriangulationInput &in, int32_t s, const ChunkOut &o, size_t firstTri,
+                     Scratch &w)
+{
+	const Topology &t = in.t;
+	for (size_t k = 0; k < w.covered.size(); ++k) {
+		if (w.covered[k])
+			continue;
+		for (int c = 0; c < 3; ++c) {
+			const int32_t v = o.tris[3 * (firstTri + k) + size_t(c)];
+			for (int32_t q = t.vfStart[size_t(v)]; q < t.vfStart[size_t(v) + 1]; ++q) {
+				const int32_t f = t.vfFace[size_t(q)];
+				if (in.p.label[size_t(f)] != s)
+					continue;
+				if (t.faceNormal[size_t(f)].dot(w.triNormal[k]) < 0)
+					return false;
+				w.ownDist2[k] = std::min(w.ownDist2[k], faceDist2(t, w.centroid[k], f));
+			}
+		}
+	}
+	return true;
+}
+
+// The input surface nearest to a triangle's centroid must not face away from it (as at a thin
+// part, where a straightened border can bring one side next to the other side).
+bool nearestSurfaceFacing(const Topology &t, const Scratch &w)
+{
+	for (size_t k = 0; k < w.ownDist2.size(); ++k) {
+		const double r2 = w.ownDist2[k];
+		if (!(r2 > 0) || !std::isfinite(r2))
+			continue; // on its own faces (or nothing to compare with)
+		// (the query box is capped at ~16^3 cells: a farther other side is not looked for,
+		// which bounds the time on strongly curved superfaces of very fine meshes)
+		const double r = std::min(std::sqrt(r2), 8 * t.grid.cell);
+		const Vec3 &c = w.centroid[k];
+		const Vec3 &n = w.triNormal[k];
+		// nearest face facing away (normals first: distances only for those)
+		double away = r * r * (1 - 1e-9);
+		bool anyAway = false;
+		t.grid.forBoxFacingAway(c - Vec3(r, r, r), c + Vec3(r, r, r), &n, [&](int32_t g) {
+			if (t.faceNormal[size_t(g)].dot(n) < 0) {
+				const double d2 = faceDist2(t, c, g);
+				if (d2 < away)
+					away = d2, anyAway = true;
+			}
+		});
+		if (!anyAway)
+			continue;
+		// flipped unless a face facing it is as near (ties: an edge or vertex both touch)
+		const double ra = std::sqrt(away) * (1 + 1e-9);
+		bool facing = false;
+		t.grid.forBox(c - Vec3(ra, ra, ra), c + Vec3(ra, ra, ra), [&](int32_t g) {
+			if (!facing && t.faceNormal[size_t(g)].dot(n) >= 0)
+				facing = faceDist2(t, c, g) <= away * (1 + 1e-9);
+		});
+		if (!facing)
+			return false;
+	}
+	return true;
+}
+
+// The area-weighted normal of superface s (unit), or false if its projection on the plane
+// orthogonal to it folds; sets `unchanged` if every vertex of its faces is kept.
+bool projectionNormal(const TriangulationInput &in, int32_t s, Vec3 &N, bool &unchanged)
+{
+	const Topology &t = in.t;
+	N = Vec3(0, 0, 0);
+	for (int32_t i = in.faces.begin(s); i < in.faces.end(s); ++i) {
+		const int32_t f = in.faces.face[size_t(i)];
+		N += t.faceNormal[size_t(f)] * t.faceArea[size_t(f)];
+	}
+	if (!(N.Norm() > 0))
+		return false;
+	N.Normalize();
+	unchanged = true;
+	for (int32_t i = in.faces.begin(s); i < in.faces.end(s); ++i) {
+		const int32_t f = in.faces.face[size_t(i)];
+		if (!(t.faceNormal[size_t(f)].dot(N) > 1e-6))
+			return false; // the projection on the best-fit plane folds
+		for (int k = 0; k < 3; ++k)
+			unchanged = unchanged && in.b.keep[size_t(t.T[3 * f + k])];
+	}
+	return true;
+}
+
+} // namespace
+
+Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, ChunkOut &o,
+                      FaceMeasures &m)
+{
+	if (in.p.cell[size_t(s)] == kInvalidCell) { // invalid input face: kept as it is
+		copyInputFaces(in, s, true, o, m);
+		return Failure::None;
+	}
+	Vec3 N;
+	bool unchanged = false;
+	if (!projectionNormal(in, s, N, unchanged))
+		return Failure::Fold;
+	if (unchanged) {
+		copyInputFaces(in, s, false, o, m);
+		return Failure::None;
+	}
+	if (!keptRingVertices(in, s, w))
+		return Failure::Ring;
+	const size_t firstTri = o.tris.size() / 3;
+	if (w.ringVertStart.size() == 2 && w.ringVerts.size() == 3) { // one triangle
+		o.emit(w.ringVerts[0], w.ringVerts[1], w.ringVerts[2], 7, true);
+	} else {
+		projectSuperface(in, s, N, w);
+		if (!triangulateRings(w.job))
+			return Failure::Ring;
+		for (size_t k = 0; k < w.job.tris.size(); k += 3)
+			o.emit(w.ringVerts[size_t(w.job.tris[k])], w.ringVerts[size_t(w.job.tris[k + 1])],
+			       w.ringVerts[size_t(w.job.tris[k + 2])], w.job.constrained[k / 3], true);
+	}
+	if (!triangleFrames(in.t, o, firstTri, w))
+		return Failure::Ring;
+	if (!deviationWithinLimit(in, s, o.tris.size() / 3 - firstTri, w, m))
+		return Failure::Deviation;
+	if (in.limits.maxDistance > 0) {
+		const Failure far = distanceCheck(in, s, N, firstTri, w, o, m.gap);
+		if (far != Failure::None)
+			return far;
+	}
+	if (!uncoveredFacing(in, s, o, firstTri, w) || !nearestSurfaceFacing(in.t, w))
+		return Failure::Ring;
+	++o.retriangulated;
+	return Failure::None;
+}
+
+} // namespace detail
+} // namespace gausslod
