@@ -12,12 +12,11 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <memory>
 
 namespace {
 
 const char *const kFilterName = "Gauss Sphere LOD: Merge Near-Coplanar Faces";
-const int kMinLevels = 1;
-const int kMaxLevels = 8;
 
 /// What the dialog (or a script) asks for, after validation.
 struct FilterRequest {
@@ -31,91 +30,45 @@ QString thousands(size_t n)
 	return QLocale(QLocale::English).toString(qulonglong(n));
 }
 
-/// A RichAbsPerc value in mesh units. Its percentage, (value-min)/(max-min), is what the dialog
-/// shows and what a saved script carries: it is applied to `diag`, the diagonal of the mesh the
-/// filter runs on. For parameters made by initParameterSet() on that mesh (min 0, max diag) this is
-/// the value itself; a script written for another mesh (or with min 0 / max 100, as the project's
-/// default script) keeps its percentage.
-double absoluteFromAbsPerc(const RichParameterList &par, const QString &name, double diag)
+/// A RichAbsPerc value as a fraction of `diag`, the diagonal of the mesh the filter runs on. Its
+/// percentage, (value-min)/(max-min), is what the dialog shows and what a saved script carries.
+/// For parameters made by initParameterSet() on that mesh (min 0, max diag) this is value/diag;
+/// a script written for another mesh (or with min 0 / max 100, as the project's default script)
+/// keeps its percentage.
+double fractionFromAbsPerc(const RichParameterList &par, const QString &name, double diag)
 {
 	const RichParameter &rp = par.getParameterByName(name);
 	const double value = rp.value().getAbsPerc();
 	const RichAbsPerc *ap = dynamic_cast<const RichAbsPerc *>(&rp);
-	if (ap == nullptr || !(ap->max > ap->min) || !(diag > 0))
-		return value;
-	return (value - ap->min) / (double(ap->max) - ap->min) * diag;
+	if (ap == nullptr || !(ap->max > ap->min))
+		return diag > 0 ? value / diag : value; // (a value in mesh units)
+	return (value - ap->min) / (double(ap->max) - ap->min);
 }
 
-/// "all" or a comma-separated list of level indices (0 = coarsest .. maxLevel-1 = finest).
-bool parseOutputLevels(const QString &text, int maxLevel, uint32_t &mask, QString &error)
-{
-	const QString t = text.trimmed();
-	if (t.compare("all", Qt::CaseInsensitive) == 0) {
-		mask = (maxLevel >= 32) ? 0xffffffffu : ((1u << maxLevel) - 1u);
-		return true;
-	}
-	mask = 0;
-	for (const QString &item : t.split(',')) {
-		bool ok = false;
-		const int level = item.trimmed().toInt(&ok);
-		if (!ok || level < 0 || level >= maxLevel) {
-			error =
-			    QString("Output levels: '%1' is not a level index; write \"all\" or a comma "
-			            "list of numbers from 0 (coarsest) to %2 (finest, = number of levels - 1).")
-			        .arg(item.trimmed())
-			        .arg(maxLevel - 1);
-			return false;
-		}
-		mask |= 1u << level;
-	}
-	return true;
-}
-
+/// The engine's parameters from the dialog or a script, checked by the engine's validateParams.
 bool readRequest(const RichParameterList &par, double diag, FilterRequest &req, QString &error)
 {
+	using gausslod::ParamKind;
 	gausslod::Params &p = req.params;
-	p.maxLevel = par.getInt("maxLevel");
-	if (p.maxLevel < kMinLevels || p.maxLevel > kMaxLevels) {
-		error = QString("Number of levels must be in %1..%2 (got %3).")
-		            .arg(kMinLevels)
-		            .arg(kMaxLevels)
-		            .arg(p.maxLevel);
-		return false;
+	std::string outputLevels;
+	for (const gausslod::ParamSpec &s : gausslod::paramSpecs()) {
+		if (!s.inFilter)
+			continue;
+		switch (s.kind) {
+		case ParamKind::Integer: gausslod::setParam(p, s, par.getInt(s.name)); break;
+		case ParamKind::Real: gausslod::setParam(p, s, par.getFloat(s.name)); break;
+		case ParamKind::Flag: gausslod::setParam(p, s, par.getBool(s.name)); break;
+		case ParamKind::DiagonalFraction:
+			gausslod::setParam(p, s, fractionFromAbsPerc(par, s.name, diag));
+			break;
+		case ParamKind::LevelList: outputLevels = par.getString(s.name).toStdString(); break;
+		}
 	}
-	if (!parseOutputLevels(par.getString("outputLevels"), p.maxLevel, p.levelMask, error))
-		return false;
-	p.featureAngleDeg = par.getFloat("featureAngle");
-	if (!(p.featureAngleDeg > 0 && p.featureAngleDeg < 180)) {
-		error = QString("Feature angle must be between 0 and 180 degrees, exclusive (got %1).")
-		            .arg(p.featureAngleDeg);
-		return false;
-	}
-	p.straightenTolerance = absoluteFromAbsPerc(par, "straightenTol", diag);
-	p.mergeDistance = absoluteFromAbsPerc(par, "mergeDist", diag);
-	if (!std::isfinite(p.straightenTolerance) || p.straightenTolerance < 0) {
-		error =
-		    QString("Straightening tolerance must be >= 0 (got %1).").arg(p.straightenTolerance);
-		return false;
-	}
-	if (!std::isfinite(p.mergeDistance) || p.mergeDistance < 0) {
-		error = QString("Vertex merge distance must be >= 0 (got %1).").arg(p.mergeDistance);
-		return false;
-	}
-	p.maxDistance = absoluteFromAbsPerc(par, "maxDistance", diag);
-	if (!std::isfinite(p.maxDistance) || p.maxDistance < 0) {
-		error = QString("Distance tolerance must be >= 0 (got %1).").arg(p.maxDistance);
-		return false;
-	}
-	p.deviationFactor = par.getFloat("normalLimit");
-	if (!std::isfinite(p.deviationFactor) || p.deviationFactor < 0) {
-		error = QString("Normal deviation limit must be >= 0 (got %1).").arg(p.deviationFactor);
-		return false;
-	}
-	p.mergeAcrossCells = par.getBool("acrossCells");
-	p.weldVertices = par.getBool("weldVertices");
-	p.weldDistance = absoluteFromAbsPerc(par, "weldDistance", diag);
-	if (!std::isfinite(p.weldDistance) || p.weldDistance < 0) {
-		error = QString("Weld distance must be >= 0 (got %1).").arg(p.weldDistance);
+	std::string message = gausslod::validateParams(p);
+	if (message.empty())
+		gausslod::parseOutputLevels(outputLevels, p.maxLevel, p.outputLevels, message);
+	if (!message.empty()) {
+		error = QString::fromStdString(message) + ".";
 		return false;
 	}
 	req.colourSuperfaces = par.getBool("colourSuperfaces");
@@ -170,6 +123,28 @@ QString levelLogLine(const gausslod::LevelStats &s, double diag)
 	if (s.reusedFiner)
 		line += QString("; same mesh as LOD%1 (merging gave more faces)").arg(s.level + 1);
 	return line;
+}
+
+/// The dialog's parameter for `s`, with the engine's default (distances: that fraction of the
+/// mesh's diagonal, in a 0..diag range).
+std::unique_ptr<RichParameter> richParameter(const gausslod::ParamSpec &s, float diag)
+{
+	using gausslod::ParamKind;
+	const QString name = s.name, label = s.label, tip = s.description;
+	switch (s.kind) {
+	case ParamKind::Integer:
+		return std::unique_ptr<RichParameter>(new RichInt(name, int(s.defaultValue), label, tip));
+	case ParamKind::Real:
+		return std::unique_ptr<RichParameter>(
+		    new RichFloat(name, float(s.defaultValue), label, tip));
+	case ParamKind::Flag:
+		return std::unique_ptr<RichParameter>(new RichBool(name, s.defaultValue != 0, label, tip));
+	case ParamKind::DiagonalFraction:
+		return std::unique_ptr<RichParameter>(
+		    new RichAbsPerc(name, diag * float(s.defaultValue), 0.0f, diag, label, tip));
+	case ParamKind::LevelList: break;
+	}
+	return std::unique_ptr<RichParameter>(new RichString(name, "all", label, tip));
 }
 
 } // namespace
@@ -248,73 +223,9 @@ void FilterGaussLodPlugin::initParameterSet(QAction *a, MeshModel &m, RichParame
 	switch (ID(a)) {
 	case FP_GAUSS_SPHERE_LOD: {
 		const float diag = m.cm.bbox.IsNull() ? 1.0f : m.cm.bbox.Diag();
-		par.addParam(RichInt(
-		    "maxLevel", 5, "Number of levels",
-		    QString("How many levels of detail to build (the paper's MaxLevel), %1..%2. Level i "
-		            "groups normals in 3^i x 3^i Gauss-sphere cells per cube face; its normal "
-		            "deviation bound is sqrt(2)*90/3^i degrees: level 0 = 127 deg (coarsest), "
-		            "1 = 42.4, 2 = 14.1, 3 = 4.71, 4 = 1.57 deg, ...")
-		        .arg(kMinLevels)
-		        .arg(kMaxLevels)));
-		par.addParam(RichString(
-		    "outputLevels", "all", "Output levels",
-		    "Which levels become layers: \"all\", or a comma-separated list of level indices, "
-		    "0 = coarsest to (number of levels - 1) = finest, e.g. \"0,2\". All levels are "
-		    "computed either way, since each coarser level is made from the finer one."));
-		par.addParam(RichFloat(
-		    "featureAngle", 30.0f, "Feature angle (deg)",
-		    "Angle in degrees (between 0 and 180) that classifies border vertices: a vertex "
-		    "whose incident normals all lie within it is flat, one with two groups of normals "
-		    "that each spread beyond it is a corner, else an edge vertex. Corners are never "
-		    "merged away."));
-		par.addParam(RichAbsPerc(
-		    "straightenTol", diag * 0.005f, 0.0f, diag, "Border straightening tolerance",
-		    "Distance in mesh units (the percentage is of the bounding-box diagonal; default "
-		    "0.5%): a border vertex farther than this from the straightened border between two "
-		    "superfaces is kept. 0 removes only exactly collinear border vertices. In a saved "
-		    "script the percentage "
-		    "is what is kept: it is applied to the diagonal of the mesh the script runs on."));
-		par.addParam(RichAbsPerc(
-		    "mergeDist", diag * 0.0025f, 0.0f, diag, "Vertex merge distance",
-		    "Distance in mesh units (the percentage is of the bounding-box diagonal; default "
-		    "0.25%): consecutive border vertices closer than this are merged, the less important "
-		    "into the more important. 0 disables merging. In a saved script the percentage is "
-		    "what is kept."));
-		par.addParam(RichAbsPerc(
-		    "maxDistance", 0.0f, 0.0f, diag, "Distance tolerance",
-		    "Beyond the paper: distance in mesh units (the percentage is of the bounding-box "
-		    "diagonal) that no removed input vertex may end farther than from the output. A "
-		    "superface that would is retried with tighter borders, then split into finer "
-		    "superfaces; it also caps the straightening tolerance (and the merge distance at "
-		    "half of it). Coarse levels then keep more faces on curved parts. 0 = no distance "
-		    "limit (default: only normals decide, as in the paper)."));
-		par.addParam(RichFloat(
-		    "normalLimit", 1.0f, "Normal deviation limit (x level bound)",
-		    "Guarantee on the result, as a multiple of each level's bound sqrt(2)*90/3^i deg: "
-		    "a superface whose re-triangulation leaves an input face farther than this from the "
-		    "output triangle covering it is retried with tighter borders, then with its border "
-		    "kept, then split into finer superfaces. 1 = the paper's bound (default); larger values simplify more; 0 = no "
-		    "limit (only flipped triangles are refused)."));
-		par.addParam(RichBool(
-		    "acrossCells", true, "Merge across cell borders",
-		    "Beyond the paper: also merge neighbouring superfaces of different Gauss-sphere "
-		    "cells when all their face normals stay within the level's bound of each other (and "
-		    "within the feature angle, so sharp edges stay sharp). Fewer faces on near-flat or "
-		    "slightly noisy regions that a cell border would cut. Off = the paper's superfaces "
-		    "(faces of one cell only)."));
-		par.addParam(RichBool(
-		    "weldVertices", true, "Weld coincident vertices",
-		    "Vertices at exactly the same position are joined before simplifying (the first "
-		    "one is kept), as MeshLab does to STL files on import: a triangle soup (STL, most "
-		    "CAD and BIM exports) then has the shared edges its superfaces grow across. The "
-		    "input layer is not changed; the log says how many were welded. Off = only vertices "
-		    "that faces already share are joined."));
-		par.addParam(RichAbsPerc(
-		    "weldDistance", 0.0f, 0.0f, diag, "Weld distance",
-		    "With welding on: vertices closer than this (mesh units; the percentage is of the "
-		    "bounding-box diagonal) to an earlier kept vertex are joined to it too, for files "
-		    "whose coincident vertices differ by rounding. 0 = exactly equal positions only "
-		    "(default)."));
+		for (const gausslod::ParamSpec &s : gausslod::paramSpecs())
+			if (s.inFilter)
+				par.addParam(*richParameter(s, diag));
 		par.addParam(RichBool("colourSuperfaces", true, "Colour faces by superface",
 		                      "Give every superface of an output level its own per-face colour."));
 		par.addParam(RichBool(

@@ -158,17 +158,17 @@ std::string resultJson(const Line &l, const std::string &input, const Outcome &o
 	       ",\"cached\":false}";
 }
 
-// Every option value that changes the files (not --threads: the output does not depend on it).
+// Every option value that changes the files (not threads: the output does not depend on it).
 std::string optionsKey(const Options &o)
 {
-	const gausslod::Params &p = o.params;
-	char buf[320];
-	std::snprintf(buf, sizeof buf, "levels=%d out=%s angle=%.17g straighten=%.17g merge=%.17g "
-	                               "maxdist=%.17g limit=%.17g across=%d weld=%d welddist=%.17g colour=%d",
-	              p.maxLevel, o.outputLevels.c_str(), p.featureAngleDeg, o.straightenPct, o.mergePct,
-	              o.maxDistancePct, p.deviationFactor, int(p.mergeAcrossCells), int(p.weldVertices),
-	              o.weldPct, int(o.colour));
-	return buf;
+	std::string key = "out=" + o.outputLevels + " colour=" + std::to_string(int(o.colour));
+	char buf[64];
+	for (const gausslod::ParamSpec &s : gausslod::paramSpecs())
+		if (s.kind != gausslod::ParamKind::LevelList && std::string(s.name) != "threads") {
+			std::snprintf(buf, sizeof buf, " %s=%.17g", s.name, gausslod::getParam(o.params, s));
+			key += buf;
+		}
+	return key;
 }
 
 int batchUsage(const std::string &why)

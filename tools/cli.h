@@ -23,15 +23,15 @@ enum Exit {
 };
 
 struct Options {
-	gausslod::Params params; ///< distances are set per mesh from the percentages below
-	double straightenPct = 0.5, mergePct = 0.25, maxDistancePct = 0, weldPct = 0;
-	bool colour = true;
+	gausslod::Params params;           ///< the engine's (--kebab-case of their names)
+	std::string outputLevels = "all"; ///< the text form of params.outputLevels
+	bool colour = true;                ///< --colour-superfaces
 	bool json = false;
-	std::string outputLevels = "all";
 };
 
-/// Parses option tokens into `o` (later tokens override earlier ones); tokens that are not
-/// options go to `positional`. False with `error` set on a bad option or value.
+/// Parses option tokens into `o` (later tokens override earlier ones) and checks the values with
+/// the engine's validateParams(); tokens that are not options go to `positional`. False with
+/// `error` set on a bad option or value.
 bool parseOptions(const std::vector<std::string> &args, Options &o,
                   std::vector<std::string> &positional, std::string &error);
 /// The option summary of the usage text.

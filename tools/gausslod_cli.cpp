@@ -10,6 +10,7 @@
 #include "gausslod/level_ply.h"
 #include "gausslod/vcg_adapter.h"
 
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -33,31 +34,57 @@ bool parseDouble(const std::string &s, double &out)
 	return end && *end == 0 && end != s.c_str();
 }
 
-// The "Output levels" list (as the filter's): "all" or comma-separated level indices.
-bool parseOutputLevels(Options &o, std::string &error)
+bool parseBool(const std::string &s, bool &out)
 {
-	gausslod::Params &p = o.params;
-	p.levelMask = 0xffffffffu;
-	if (o.outputLevels == "all")
-		return true;
-	p.levelMask = 0;
-	std::string item;
-	for (size_t i = 0; i <= o.outputLevels.size(); ++i) {
-		if (i < o.outputLevels.size() && o.outputLevels[i] != ',') {
-			item += o.outputLevels[i];
-			continue;
-		}
-		char *end = nullptr;
-		const long level = std::strtol(item.c_str(), &end, 10);
-		if (item.empty() || *end != 0 || level < 0 || level >= p.maxLevel) {
-			error = "--output-levels: '" + item + "' is not a level index; write \"all\" or a " +
-			        "comma list of numbers from 0 (coarsest) to " + std::to_string(p.maxLevel - 1) +
-			        " (finest)";
-			return false;
-		}
-		p.levelMask |= 1u << level;
-		item.clear();
+	if (s == "true" || s == "1" || s == "on" || s == "yes")
+		return out = true, true;
+	if (s == "false" || s == "0" || s == "off" || s == "no")
+		return out = false, true;
+	return false;
+}
+
+// The option of a parameter: "--" + its name in kebab case (maxLevel -> --max-level).
+std::string flagOf(const char *name)
+{
+	std::string flag = "--";
+	for (const char *c = name; *c; ++c) {
+		if (std::isupper(static_cast<unsigned char>(*c)))
+			flag += '-', flag += char(std::tolower(static_cast<unsigned char>(*c)));
+		else
+			flag += *c;
 	}
+	return flag;
+}
+
+// Earlier spellings of the options, still accepted: {old, new, value} (value "" = takes one).
+const char *const kAliases[][3] = {
+    {"--levels", "--max-level", ""},           {"--straighten", "--straighten-tol", ""},
+    {"--merge", "--merge-dist", ""},           {"--paper-superfaces", "--across-cells", "false"},
+    {"--no-weld", "--weld-vertices", "false"}, {"--no-colour", "--colour-superfaces", "false"},
+};
+
+// Sets the parameter `s` from its option's value (distances are percentages on the command line).
+bool setFromText(const gausslod::ParamSpec &s, const std::string &flag, const std::string &text,
+                 Options &o, std::string &error)
+{
+	using gausslod::ParamKind;
+	if (s.kind == ParamKind::LevelList) {
+		o.outputLevels = text;
+		return true;
+	}
+	bool b = false;
+	double v = 0;
+	if (s.kind == ParamKind::Flag) {
+		if (!parseBool(text, b))
+			return error = flag + " needs true or false", false;
+		gausslod::setParam(o.params, s, b ? 1 : 0);
+		return true;
+	}
+	if (!parseDouble(text, v))
+		return error = flag + " needs a number", false;
+	if (s.kind == ParamKind::Integer && (!(v >= -1e9 && v <= 1e9) || v != double(int(v))))
+		return error = flag + " needs a whole number", false;
+	gausslod::setParam(o.params, s, s.kind == ParamKind::DiagonalFraction ? v / 100.0 : v);
 	return true;
 }
 
@@ -94,7 +121,7 @@ void setEngineError(Outcome &out, const gausslod::Result &res)
 	}
 }
 
-// Reads `input` into flat arrays and sets the distances of `p` from the percentages.
+// Reads `input` into flat arrays.
 bool readInput(const std::string &input, const Options &o, gausslod::FlatMesh &flat,
                gausslod::Params &p, Outcome &out)
 {
@@ -112,12 +139,8 @@ bool readInput(const std::string &input, const Options &o, gausslod::FlatMesh &f
 	}
 	out.inputFaces = flat.triangles.size() / 3;
 	out.inputVertices = flat.positions.size() / 3;
-	const double diag = out.diagonal = gausslod::bboxDiagonal(flat.view());
+	out.diagonal = gausslod::bboxDiagonal(flat.view());
 	p = o.params;
-	p.straightenTolerance = o.straightenPct / 100.0 * diag;
-	p.mergeDistance = o.mergePct / 100.0 * diag;
-	p.maxDistance = o.maxDistancePct / 100.0 * diag;
-	p.weldDistance = o.weldPct / 100.0 * diag;
 	return true;
 }
 
@@ -125,92 +148,77 @@ bool readInput(const std::string &input, const Options &o, gausslod::FlatMesh &f
 
 const char *optionHelp()
 {
-	return "options (defaults as in the MeshLab filter):\n"
-	       "  --levels N          number of levels, 1..8 (5)\n"
-	       "  --feature-angle D   vertex-class threshold, degrees (30)\n"
-	       "  --straighten P      border straightening tolerance, % of bbox diagonal (0.5)\n"
-	       "  --merge P           vicinity merge distance, % of bbox diagonal (0.25)\n"
-	       "  --max-distance P    distance tolerance, % of bbox diagonal: no removed input\n"
-	       "                      vertex farther from the output (0 = none, the default)\n"
-	       "  --normal-limit F    normal deviation limit, x each level's bound; 0 = none (1)\n"
-	       "  --output-levels L   \"all\" or a comma list of levels to write, 0 = coarsest (all)\n"
-	       "  --paper-superfaces  superfaces within one Gauss-sphere cell only, as in the paper\n"
-	       "                      (default: also merge across cell borders within the bound)\n"
-	       "  --no-weld           keep vertices at the same position apart (default: weld them,\n"
-	       "                      as MeshLab does to STL files, so that triangle soups simplify)\n"
-	       "  --weld-distance P   also weld vertices closer than P % of the bbox diagonal (0)\n"
-	       "  --threads N         worker threads, 0 = one per core (0); same output for any N\n"
-	       "  --no-colour         do not colour faces by superface\n"
-	       "  --json              one JSON line per level instead of the table\n";
+	static const std::string help = [] {
+		using gausslod::ParamKind;
+		std::string h = "options (the MeshLab filter's parameters and defaults):\n";
+		char line[512];
+		for (const gausslod::ParamSpec &s : gausslod::paramSpecs()) {
+			const bool pct = s.kind == ParamKind::DiagonalFraction;
+			const char *arg = s.kind == ParamKind::Flag        ? "BOOL"
+			                  : s.kind == ParamKind::LevelList ? "L"
+			                  : pct                            ? "P"
+			                                                   : "N";
+			std::string def = s.kind == ParamKind::LevelList ? "all"
+			                  : s.kind == ParamKind::Flag    ? (s.defaultValue ? "true" : "false")
+			                                                 : "";
+			if (def.empty()) {
+				std::snprintf(line, sizeof line, "%g", pct ? 100 * s.defaultValue : s.defaultValue);
+				def = line;
+			}
+			const std::string flag = flagOf(s.name) + " " + arg;
+			std::snprintf(line, sizeof line, "  %-22s %s (%s)\n", flag.c_str(), s.summary, def.c_str());
+			h += line;
+		}
+		h += "  --colour-superfaces BOOL  colour faces by superface (true)\n"
+		     "  --json                 one JSON line per level instead of the table\n"
+		     "  earlier spellings: --levels N, --straighten P, --merge P, --paper-superfaces\n"
+		     "  (= --across-cells false), --no-weld (= --weld-vertices false), --no-colour\n";
+		return h;
+	}();
+	return help.c_str();
 }
 
 bool parseOptions(const std::vector<std::string> &args, Options &o,
                   std::vector<std::string> &positional, std::string &error)
 {
 	for (size_t i = 0; i < args.size(); ++i) {
-		const std::string &a = args[i];
-		double v = 0;
-		auto number = [&](double &out) {
-			if (i + 1 >= args.size() || !parseDouble(args[i + 1], out)) {
-				error = a + " needs a number";
-				return false;
+		std::string flag = args[i], value;
+		bool valueGiven = false;
+		for (const auto &alias : kAliases)
+			if (flag == alias[0]) {
+				flag = alias[1];
+				valueGiven = *alias[2] != 0;
+				value = alias[2];
 			}
-			++i;
-			return true;
-		};
-		if (a == "--levels" || a == "--threads") {
-			if (!number(v))
-				return false;
-			if (!(v >= -1e9 && v <= 1e9) || v != double(int(v))) {
-				error = a + " needs a whole number";
-				return false;
-			}
-			(a == "--levels" ? o.params.maxLevel : o.params.threads) = int(v);
-		} else if (a == "--feature-angle") {
-			if (!number(o.params.featureAngleDeg))
-				return false;
-		} else if (a == "--straighten") {
-			if (!number(o.straightenPct))
-				return false;
-		} else if (a == "--merge") {
-			if (!number(o.mergePct))
-				return false;
-		} else if (a == "--max-distance") {
-			if (!number(o.maxDistancePct))
-				return false;
-		} else if (a == "--weld-distance") {
-			if (!number(o.weldPct))
-				return false;
-		} else if (a == "--normal-limit") {
-			if (!number(o.params.deviationFactor))
-				return false;
-		} else if (a == "--output-levels") {
-			if (i + 1 >= args.size()) {
-				error = a + " needs a list";
-				return false;
-			}
-			o.outputLevels = args[++i];
-		} else if (a == "--paper-superfaces") {
-			o.params.mergeAcrossCells = false;
-		} else if (a == "--no-weld") {
-			o.params.weldVertices = false;
-		} else if (a == "--no-colour") {
-			o.colour = false;
-		} else if (a == "--json") {
+		if (flag == "--json") {
 			o.json = true;
-		} else if (a.size() > 1 && a[0] == '-') {
-			error = "unknown option " + a;
+			continue;
+		}
+		const gausslod::ParamSpec *spec = nullptr;
+		for (const gausslod::ParamSpec &s : gausslod::paramSpecs())
+			if (flag == flagOf(s.name))
+				spec = &s;
+		if (spec == nullptr && flag != "--colour-superfaces") {
+			if (flag.size() > 1 && flag[0] == '-')
+				return error = "unknown option " + flag, false;
+			positional.push_back(flag);
+			continue;
+		}
+		if (!valueGiven) {
+			if (i + 1 >= args.size())
+				return error = args[i] + " needs a value", false;
+			value = args[++i];
+		}
+		if (spec == nullptr) { // --colour-superfaces: the output's, not the engine's
+			if (!parseBool(value, o.colour))
+				return error = flag + " needs true or false", false;
+		} else if (!setFromText(*spec, args[valueGiven ? i : i - 1], value, o, error)) {
 			return false;
-		} else {
-			positional.push_back(a);
 		}
 	}
-	for (const double pct : {o.straightenPct, o.mergePct, o.maxDistancePct, o.weldPct})
-		if (!(pct >= 0 && pct <= 100)) {
-			error = "distances are percentages of the bounding-box diagonal, from 0 to 100";
-			return false;
-		}
-	return parseOutputLevels(o, error);
+	error = gausslod::validateParams(o.params);
+	return error.empty() &&
+	       gausslod::parseOutputLevels(o.outputLevels, o.params.maxLevel, o.params.outputLevels, error);
 }
 
 std::string jsonString(const std::string &s)
@@ -434,7 +442,7 @@ int main(int argc, char **argv)
 	const std::string &outdir = positional[1];
 	std::string stem = input.substr(input.find_last_of('/') + 1);
 	stem = stem.substr(0, stem.find_last_of('.'));
-	const bool distance = o.maxDistancePct > 0;
+	const bool distance = o.params.maxDistance > 0;
 	auto done = [&](const cli::Outcome &sofar, const gausslod::LevelStats &s, const std::string &file) {
 		if (sofar.files.size() == 1 && !o.json) {
 			const std::string repairs = cli::repairsText(s.input);

@@ -75,8 +75,8 @@ expect() { # NAME CODE TEXT ARGS...
 printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n' >"$work/points.ply"
 expect no_args 2 "usage:"
 expect unknown_option 2 "unknown option" --frobnicate "$data/cow.off" "$work/x"
-expect bad_levels 2 "number of levels must be between" --levels 0 "$data/cow.off" "$work/x"
-expect bad_distance 2 "percentages of the bounding-box diagonal" --max-distance -1 "$data/cow.off" "$work/x"
+expect bad_levels 2 "Number of levels (maxLevel) must be between 1 and 8" --levels 0 "$data/cow.off" "$work/x"
+expect bad_distance 2 "must be between 0 and 100 % of the bounding-box diagonal" --max-distance -1 "$data/cow.off" "$work/x"
 expect bad_output_levels 2 "is not a level index" --output-levels 9 "$data/cow.off" "$work/x"
 expect missing_input 3 "$work/nothing.ply: " "$work/nothing.ply" "$work/x"
 expect point_cloud 5 "no faces" "$work/points.ply" "$work/x"
@@ -109,6 +109,18 @@ w=$(ply_faces "$work/wuson/Wuson_LOD0.ply") nw=$(ply_faces "$work/wuson_nw/Wuson
   fail "STL soup: $in faces -> LOD0 $w welded (want < 70 %), $nw with --no-weld (want $in)"
 grep -q '"welded_vertices":[1-9]' "$work/wuson.txt" && pass "--json says how many vertices were welded" ||
   fail "--json: no welded_vertices: $(head -c 600 "$work/wuson.txt")"
+
+# The options carry the filter's parameter names (--max-level = maxLevel); the earlier spellings
+# still work and give the same files.
+"$tool" --max-level 3 --straighten-tol 1 --merge-dist 0.5 --across-cells false \
+  --weld-vertices false --colour-superfaces false "$data/fandisk.off" "$work/names_new" >/dev/null 2>&1
+"$tool" --levels 3 --straighten 1 --merge 0.5 --paper-superfaces --no-weld --no-colour \
+  "$data/fandisk.off" "$work/names_old" >/dev/null 2>&1
+same=1
+for l in 0 1 2; do cmp -s "$work/names_new/fandisk_LOD$l.ply" "$work/names_old/fandisk_LOD$l.ply" || same=0; done
+[ $same -eq 1 ] && pass "new option names and earlier spellings give the same levels" ||
+  fail "new option names and earlier spellings differ: $(ls "$work/names_new" "$work/names_old")"
+expect bad_bool 2 "needs true or false" --across-cells maybe "$data/cow.off" "$work/x"
 
 echo "test_cli: $failures failure(s)"
 [ $failures -eq 0 ]

@@ -225,7 +225,7 @@ TEST(BadInput, every_case_gives_its_expected_error_or_valid_levels)
 		SCOPED_TRACE(c.name);
 		const FlatMesh in = c.make();
 		const FlatMesh copy = in;
-		const Result r = buildLevels(in.view(), defaultParams(in));
+		const Result r = buildLevels(in.view(), Params());
 		// the input is never touched (bitwise: NaNs compare by representation)
 		ASSERT_TRUE(in.positions.empty() ||
 		            0 == std::memcmp(copy.positions.data(), in.positions.data(),
@@ -282,12 +282,12 @@ TEST(BadInput, bad_parameters_give_a_clear_error)
 		return buildLevels(m.view(), p).error;
 	};
 	EXPECT_NE(err([](Params &p) { p.maxLevel = 9; }).find("levels"), std::string::npos);
-	EXPECT_NE(err([](Params &p) { p.featureAngleDeg = 0; }).find("feature angle"), std::string::npos);
-	EXPECT_NE(err([](Params &p) { p.straightenTolerance = -1; }).find("straightening"), std::string::npos);
-	EXPECT_NE(err([](Params &p) { p.mergeDistance = NAN; }).find("merge"), std::string::npos);
-	EXPECT_NE(err([](Params &p) { p.deviationFactor = -2; }).find("deviation"), std::string::npos);
-	EXPECT_NE(err([](Params &p) { p.maxDistance = -1; }).find("distance tolerance"), std::string::npos);
-	EXPECT_NE(err([](Params &p) { p.maxDistance = INFINITY; }).find("distance tolerance"), std::string::npos);
+	EXPECT_NE(err([](Params &p) { p.featureAngle = 0; }).find("featureAngle"), std::string::npos);
+	EXPECT_NE(err([](Params &p) { p.straightenTol = -1; }).find("straightening"), std::string::npos);
+	EXPECT_NE(err([](Params &p) { p.mergeDist = NAN; }).find("merge"), std::string::npos);
+	EXPECT_NE(err([](Params &p) { p.normalLimit = -2; }).find("deviation"), std::string::npos);
+	EXPECT_NE(err([](Params &p) { p.maxDistance = -1; }).find("maxDistance"), std::string::npos);
+	EXPECT_NE(err([](Params &p) { p.maxDistance = INFINITY; }).find("maxDistance"), std::string::npos);
 }
 
 TEST(BadInput, progress_callback_can_cancel)
@@ -344,7 +344,7 @@ TEST(BadInput, a_2M_triangle_closed_mesh_gives_closed_levels)
 		m.triangles.insert(m.triangles.end(), {top, id(1, i), id(1, i + 1), bottom, id(nv - 1, i + 1), id(nv - 1, i)});
 	ASSERT_GE(m.triangles.size() / 3, 2000000u);
 	ASSERT_EQ(openOrBadEdges(m.triangles), 0u);
-	const Result r = buildLevels(m.view(), defaultParams(m));
+	const Result r = buildLevels(m.view(), Params());
 	ASSERT_TRUE(r.ok) << r.error;
 	size_t finer = m.triangles.size() / 3;
 	for (const LevelMesh &lm : r.levels) {

@@ -60,8 +60,8 @@ TEST(InputRepair, a_triangle_soup_gives_the_levels_of_its_welded_mesh)
 		SCOPED_TRACE(name);
 		const FlatMesh soup = soupOf(loadOff(name));
 		const FlatMesh welded = compactWelded(soup);
-		const Result a = buildLevels(soup.view(), defaultParams(soup));
-		const Result b = buildLevels(welded.view(), defaultParams(welded));
+		const Result a = buildLevels(soup.view(), Params());
+		const Result b = buildLevels(welded.view(), Params());
 		ASSERT_TRUE(a.ok) << a.error;
 		ASSERT_TRUE(b.ok) << b.error;
 		EXPECT_EQ(a.input.weldedVertices, soup.positions.size() / 3 - welded.positions.size() / 3);
@@ -92,7 +92,7 @@ TEST(InputRepair, a_triangle_soup_gives_the_levels_of_its_welded_mesh)
 TEST(InputRepair, without_welding_a_soup_stays_as_it_is)
 {
 	const FlatMesh soup = soupOf(loadOff("fandisk.off"));
-	Params p = defaultParams(soup);
+	Params p;
 	p.weldVertices = false;
 	const Result r = buildLevels(soup.view(), p);
 	ASSERT_TRUE(r.ok) << r.error;
@@ -110,12 +110,12 @@ TEST(InputRepair, a_weld_distance_joins_near_vertices_and_no_farther_ones)
 	std::uniform_real_distribution<double> jitter(-eps, eps);
 	for (double &x : soup.positions)
 		x += jitter(rng); // rounding noise: within sqrt(3) eps of the true position
-	Params p = defaultParams(soup);
+	Params p;
 	const Result exact = buildLevels(soup.view(), p);
 	ASSERT_TRUE(exact.ok) << exact.error;
 	EXPECT_EQ(exact.input.weldedVertices, 0u); // no two positions are exactly equal any more
 
-	p.weldDistance = 4 * eps; // > the 2 sqrt(3) eps two copies can be apart
+	p.weldDistance = 4 * eps / diag; // > the 2 sqrt(3) eps two copies can be apart
 	const Result near = buildLevels(soup.view(), p);
 	ASSERT_TRUE(near.ok) << near.error;
 	EXPECT_EQ(near.input.weldedVertices, soup.positions.size() / 3 - clean.positions.size() / 3);
@@ -126,7 +126,7 @@ TEST(InputRepair, a_weld_distance_joins_near_vertices_and_no_farther_ones)
 			ASSERT_TRUE(v >= 0 && size_t(v) < soup.positions.size() / 3);
 
 	p.weldDistance = -1;
-	EXPECT_NE(buildLevels(soup.view(), p).error.find("weld distance"), std::string::npos);
+	EXPECT_NE(buildLevels(soup.view(), p).error.find("weldDistance"), std::string::npos);
 }
 
 TEST(InputRepair, skipped_degenerate_and_locked_faces_are_counted)
@@ -141,7 +141,7 @@ TEST(InputRepair, skipped_degenerate_and_locked_faces_are_counted)
 	const size_t n = m.positions.size() / 3;
 	m.positions.insert(m.positions.end(), {0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.6, 0.6, 0.6}); // 2 equal
 	m.triangles.insert(m.triangles.end(), {int32_t(n), int32_t(n + 1), int32_t(n + 2)});
-	const Result r = buildLevels(m.view(), Params());
+	const Result r = buildLevels(m.view(), exactParams());
 	ASSERT_TRUE(r.ok) << r.error;
 	EXPECT_EQ(r.input.weldedVertices, 1u);  // n+1 onto n
 	EXPECT_EQ(r.input.facesReindexed, 1u);
@@ -159,11 +159,11 @@ TEST(InputRepair, skipped_degenerate_and_locked_faces_are_counted)
 	flat.triangles.insert(flat.triangles.end(), {a, a + 1, a + 1}); // not a triangle: dropped
 	flat.positions.insert(flat.positions.end(), {2, 2, 2, 2, 2, 2, 2, 2, 2});
 	flat.triangles.insert(flat.triangles.end(), {a + 2, a + 3, a + 4}); // a point: zero area
-	const Result d = buildLevels(flat.view(), Params());
+	const Result d = buildLevels(flat.view(), exactParams());
 	ASSERT_TRUE(d.ok) << d.error;
 	// (welded onto vertex a: the zero-area face becomes a, a, a and is skipped too)
 	EXPECT_EQ(d.input.facesRepeatedVertex, 2u);
-	Params noWeld;
+	Params noWeld = exactParams();
 	noWeld.weldVertices = false;
 	const Result k = buildLevels(flat.view(), noWeld);
 	ASSERT_TRUE(k.ok) << k.error;
@@ -178,18 +178,18 @@ TEST(InputRepair, a_mesh_whose_every_face_is_skipped_is_an_error_not_an_empty_le
 	FlatMesh m;
 	m.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0};
 	m.triangles = {0, 1, 1, 0, 1, 2, 3, 1, 2}; // a repeated index; a face; the same face, welded
-	const Result r = buildLevels(m.view(), Params());
+	const Result r = buildLevels(m.view(), exactParams());
 	ASSERT_TRUE(r.ok) << r.error; // one face is left: a valid one-face level
 	for (const LevelMesh &lm : r.levels)
 		EXPECT_EQ(lm.stats.faces, 1u);
 
 	m.triangles = {0, 1, 1, 2, 2, 0, 0, 1, 3}; // 0 and 3 weld: every face repeats a vertex
-	const Result e = buildLevels(m.view(), Params());
+	const Result e = buildLevels(m.view(), exactParams());
 	EXPECT_FALSE(e.ok);
 	EXPECT_EQ(e.errorKind, ErrorKind::BadInput);
 	EXPECT_NE(e.error.find("nothing to simplify"), std::string::npos) << e.error;
 	EXPECT_TRUE(e.levels.empty());
-	const Result c = checkInput(m.view(), Params());
+	const Result c = checkInput(m.view(), exactParams());
 	EXPECT_FALSE(c.ok);
 	EXPECT_EQ(c.error, e.error);
 	EXPECT_EQ(c.input.facesRepeatedVertex, 3u);
@@ -198,10 +198,10 @@ TEST(InputRepair, a_mesh_whose_every_face_is_skipped_is_an_error_not_an_empty_le
 TEST(InputRepair, check_input_reports_what_build_levels_would)
 {
 	const FlatMesh soup = soupOf(loadOff("cow.off"));
-	const Result c = checkInput(soup.view(), defaultParams(soup));
+	const Result c = checkInput(soup.view(), Params());
 	ASSERT_TRUE(c.ok) << c.error;
 	EXPECT_TRUE(c.levels.empty());
-	const Result b = buildLevels(soup.view(), defaultParams(soup));
+	const Result b = buildLevels(soup.view(), Params());
 	EXPECT_EQ(c.input.weldedVertices, b.input.weldedVertices);
 	EXPECT_EQ(c.input.verticesLocked, b.input.verticesLocked);
 	Params bad;

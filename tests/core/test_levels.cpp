@@ -62,7 +62,7 @@ TEST(Levels, grid_cube_is_exactly_12_triangles_on_8_corners_at_every_level)
 {
 	const FlatMesh cube = gridCube(50);
 	ASSERT_EQ(cube.triangles.size() / 3, 6u * 50 * 50 * 2);
-	const Result r = buildLevels(cube.view(), defaultParams(cube));
+	const Result r = buildLevels(cube.view(), Params());
 	ASSERT_TRUE(r.ok) << r.error;
 	ASSERT_EQ(r.levels.size(), 5u);
 	for (const LevelMesh &lm : r.levels) {
@@ -81,7 +81,7 @@ TEST(Levels, noisy_grid_cube_reaches_12_triangles_by_level_2)
 {
 	const FlatMesh cube = gridCube(50, 1.0, 1e-4, 3);
 	const TopoFacts inFacts = topoFacts(cube.positions, cube.triangles);
-	const Result r = buildLevels(cube.view(), defaultParams(cube));
+	const Result r = buildLevels(cube.view(), Params());
 	ASSERT_TRUE(r.ok) << r.error;
 	for (const LevelMesh &lm : r.levels) {
 		std::printf("noisy cube level %d: %zu faces, %zu superfaces, max dev %.3f deg\n",
@@ -98,7 +98,7 @@ TEST(Levels, planar_grid_with_a_square_hole_keeps_boundary_and_hole_as_two_loops
 	const FlatMesh grid = gridWithHole(40, 10, 30);
 	const TopoFacts inFacts = topoFacts(grid.positions, grid.triangles);
 	ASSERT_EQ(inFacts.boundaryLoops, 2u);
-	const Result r = buildLevels(grid.view(), defaultParams(grid));
+	const Result r = buildLevels(grid.view(), Params());
 	ASSERT_TRUE(r.ok) << r.error;
 	for (const LevelMesh &lm : r.levels) {
 		expectInvariants(grid, inFacts, lm);
@@ -118,7 +118,7 @@ TEST(Levels, real_models_keep_every_invariant_at_every_level)
 		// (the levels are made on the welded input: cow.off has a vertex twice)
 		const FlatMesh welded = weldedCopy(m);
 		const TopoFacts inFacts = topoFacts(welded.positions, welded.triangles);
-		const Result r = buildLevels(m.view(), defaultParams(m));
+		const Result r = buildLevels(m.view(), Params());
 		ASSERT_TRUE(r.ok) << r.error;
 		ASSERT_EQ(r.levels.size(), 5u);
 		for (const LevelMesh &lm : r.levels)
@@ -133,7 +133,7 @@ TEST(Levels, no_output_face_points_away_from_the_nearest_input_face)
 	// the cow's tail, horns and ears are thin: at coarse levels a straightened border can bring
 	// one side's triangle nearer to the other side than to its own faces
 	const FlatMesh m = loadOff("cow.off");
-	const Result r = buildLevels(m.view(), defaultParams(m));
+	const Result r = buildLevels(m.view(), Params());
 	ASSERT_TRUE(r.ok) << r.error;
 	for (const LevelMesh &lm : r.levels)
 		EXPECT_EQ(facesAwayFromNearestInput(m, lm), 0u) << "level " << lm.stats.level;
@@ -142,8 +142,8 @@ TEST(Levels, no_output_face_points_away_from_the_nearest_input_face)
 TEST(Levels, same_input_and_parameters_give_the_same_output)
 {
 	const FlatMesh m = loadOff("fandisk.off");
-	const Result a = buildLevels(m.view(), defaultParams(m));
-	const Result b = buildLevels(m.view(), defaultParams(m));
+	const Result a = buildLevels(m.view(), Params());
+	const Result b = buildLevels(m.view(), Params());
 	ASSERT_TRUE(a.ok && b.ok);
 	ASSERT_EQ(a.levels.size(), b.levels.size());
 	for (size_t i = 0; i < a.levels.size(); ++i) {
@@ -156,8 +156,8 @@ TEST(Levels, same_input_and_parameters_give_the_same_output)
 TEST(Levels, a_level_sink_gets_the_same_levels_one_at_a_time_and_can_cancel)
 {
 	const FlatMesh m = loadOff("fandisk.off");
-	Params p = defaultParams(m);
-	p.levelMask = (1u << 1) | (1u << 3) | (1u << 4);
+	Params p;
+	p.outputLevels = (1u << 1) | (1u << 3) | (1u << 4);
 	const Result whole = buildLevels(m.view(), p);
 	ASSERT_TRUE(whole.ok);
 	std::vector<LevelMesh> got;
@@ -186,7 +186,7 @@ TEST(Levels, the_output_does_not_depend_on_the_number_of_threads)
 {
 	for (const char *name : {"fandisk.off", "bunny00.off"}) {
 		const FlatMesh m = loadOff(name);
-		Params p = defaultParams(m);
+		Params p;
 		p.threads = 1;
 		const Result one = buildLevels(m.view(), p);
 		p.threads = 3;
@@ -205,8 +205,8 @@ TEST(Levels, the_output_does_not_depend_on_the_number_of_threads)
 TEST(Levels, level_mask_selects_levels_finest_first)
 {
 	const FlatMesh m = gridCube(4);
-	Params p = defaultParams(m);
-	p.levelMask = (1u << 0) | (1u << 3);
+	Params p;
+	p.outputLevels = (1u << 0) | (1u << 3);
 	const Result r = buildLevels(m.view(), p);
 	ASSERT_TRUE(r.ok);
 	ASSERT_EQ(r.levels.size(), 2u);
@@ -249,8 +249,8 @@ TEST(Levels, papers_experiment_cow_and_dino_at_max_level_5)
 	for (const char *name : {"cow.off", "dino.off"}) {
 		const FlatMesh m = loadOff(name);
 		for (const bool across : {false, true}) {
-			Params p = defaultParams(m);
-			p.mergeAcrossCells = across; // false = the paper's superfaces
+			Params p;
+			p.acrossCells = across; // false = the paper's superfaces
 			const Result r = buildLevels(m.view(), p);
 			ASSERT_TRUE(r.ok) << r.error;
 			std::printf("paper experiment %s%s: input %zu", name, across ? " (across cells)" : "",

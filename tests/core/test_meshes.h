@@ -29,13 +29,13 @@ class TFace : public vcg::Face<TUsedTypes, vcg::face::VertexRef, vcg::face::Norm
                                vcg::face::Color4b, vcg::face::Mark, vcg::face::BitFlags> {};
 class TMesh : public vcg::tri::TriMesh<std::vector<TVertex>, std::vector<TFace>> {};
 
-/// The filter's defaults: tolerances as 0.5 % / 0.25 % of the bounding-box diagonal.
-inline gausslod::Params defaultParams(const gausslod::FlatMesh &m)
+/// No straightening tolerance and no vicinity merging: every border vertex that is not exactly on
+/// its chain is kept (Params() has the filter's defaults, 0.5 % / 0.25 % of the diagonal).
+inline gausslod::Params exactParams()
 {
 	gausslod::Params p;
-	const double diag = gausslod::bboxDiagonal(m.view());
-	p.straightenTolerance = 0.005 * diag;
-	p.mergeDistance = 0.0025 * diag;
+	p.straightenTol = 0;
+	p.mergeDist = 0;
 	return p;
 }
 

@@ -94,7 +94,7 @@ TEST(Hierarchy, a_noisy_45_degree_chamfer_merges_across_the_cube_edge_of_the_gau
 	// fall into cells of both faces, and only the 8-neighbourhood across cube-face edges can join
 	// them into one superface.
 	const FlatMesh m = tiltedPlane(Vec3(1, 1, 0), 30, 2e-3, 5);
-	const Result r = buildLevels(m.view(), Params());
+	const Result r = buildLevels(m.view(), exactParams());
 	ASSERT_TRUE(r.ok) << r.error;
 	std::set<int> cubeFaces;
 	for (size_t f = 0; f < m.triangles.size() / 3; ++f) {
@@ -119,11 +119,11 @@ TEST(Straightening, tolerance_bounds_how_far_a_removed_border_vertex_may_be_from
 	// A roof with a 40 degree crease whose ridge wiggles: zero tolerance keeps every ridge
 	// vertex; a tolerance above the wiggle straightens the ridge to one segment.
 	const FlatMesh m = wigglyRoof(20, 40);
-	Params keepAll;
+	Params keepAll = exactParams();
 	keepAll.maxLevel = 3;
 	const Result a = buildLevels(m.view(), keepAll);
 	Params straight = keepAll;
-	straight.straightenTolerance = 5e-3;
+	straight.straightenTol = 5e-3 / bboxDiagonal(m.view());
 	const Result b = buildLevels(m.view(), straight);
 	ASSERT_TRUE(a.ok && b.ok);
 	const LevelMesh &la = a.levels.back(), &lb = b.levels.back();
@@ -145,10 +145,10 @@ TEST(VicinityMerging, close_border_vertices_merge_and_the_chain_ends_survive)
 	// The wiggly ridge again, with a zero straightening tolerance: every ridge vertex is kept
 	// unless vicinity merging removes it.
 	const FlatMesh m = wigglyRoof(20, 20);
-	Params p;
+	Params p = exactParams();
 	p.maxLevel = 3;
 	const Result none = buildLevels(m.view(), p);
-	p.mergeDistance = 0.25; // 2.5 grid steps
+	p.mergeDist = 0.25 / bboxDiagonal(m.view()); // 2.5 grid steps
 	const Result merged = buildLevels(m.view(), p);
 	ASSERT_TRUE(none.ok && merged.ok);
 	auto ridge = [](const LevelMesh &lm, double y) {
@@ -339,13 +339,13 @@ TEST(LevelGeometry, a_level_over_its_face_limit_is_abandoned_after_the_round_tha
 	// fandisk's finest level needs a second round (superfaces split into their faces); with a
 	// face limit below what the first round already has, the build stops there without a mesh
 	const FlatMesh m = loadOff("fandisk.off");
-	const Params prm = defaultParams(m);
+	const Params prm;
 	detail::Topology topo;
-	detail::buildTopology(m.view(), prm.featureAngleDeg, topo);
+	detail::buildTopology(m.view(), prm.featureAngle, topo);
 	const int finest = prm.maxLevel - 1;
 	std::vector<detail::Partition> parts(size_t(prm.maxLevel));
 	detail::finestPartition(topo, finest, parts[size_t(finest)]);
-	detail::mergeAcrossCells(topo, std::min(levelBoundDeg(finest), prm.featureAngleDeg),
+	detail::mergeAcrossCells(topo, std::min(levelBoundDeg(finest), prm.featureAngle),
 	                         parts[size_t(finest)]);
 	const detail::Partition start = parts[size_t(finest)];
 
@@ -396,19 +396,20 @@ TEST(DistanceTolerance, no_input_vertex_ends_farther_than_the_tolerance_from_any
 	// distance tolerance refuses (then splits) the superfaces that would
 	const FlatMesh m = grid(40, [](double x, double y) { return Vec3(x, y, 0.3 * (x * x + y * y)); });
 	const double diag = bboxDiagonal(m.view());
-	Params free = defaultParams(m);
+	Params free;
 	Params bounded = free;
-	bounded.maxDistance = 0.002 * diag;
+	bounded.maxDistance = 0.002; // of the diagonal
+	const double tol = bounded.maxDistance * diag;
 	const Result a = buildLevels(m.view(), free), b = buildLevels(m.view(), bounded);
 	ASSERT_TRUE(a.ok && b.ok);
 	ASSERT_EQ(a.levels.size(), b.levels.size());
-	EXPECT_GT(farthestInputVertex(m, a.levels.back()), 5 * bounded.maxDistance);
+	EXPECT_GT(farthestInputVertex(m, a.levels.back()), 5 * tol);
 	for (size_t i = 0; i < b.levels.size(); ++i) {
 		const LevelMesh &lb = b.levels[i];
 		const double farthest = farthestInputVertex(m, lb);
-		EXPECT_LE(farthest, bounded.maxDistance * (1 + 1e-9)) << "level " << lb.stats.level;
+		EXPECT_LE(farthest, tol * (1 + 1e-9)) << "level " << lb.stats.level;
 		// the figure reported is what the check measured: a bound of the vertices' distance
-		EXPECT_LE(lb.stats.maxDistance, bounded.maxDistance * (1 + 1e-6)) << "level " << lb.stats.level;
+		EXPECT_LE(lb.stats.maxDistance, tol * (1 + 1e-6)) << "level " << lb.stats.level;
 		EXPECT_GE(lb.stats.maxDistance * (1 + 1e-6), farthest) << "level " << lb.stats.level;
 		EXPECT_EQ(a.levels[i].stats.maxDistance, -1.0); // not measured without the tolerance
 		EXPECT_GE(lb.stats.faces, a.levels[i].stats.faces);

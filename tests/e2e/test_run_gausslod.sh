@@ -104,7 +104,7 @@ expect_failure garbage "garbage.off: "
 sed 's/name="maxLevel" value="[0-9]*"/name="maxLevel" value="9"/' \
     "$(dirname "$runner")/gausslod_default.mlx" >"$work/bad_level.mlx"
 run filter_error "$data/cow.off" "$work/filter_error" "$work/bad_level.mlx"
-expect_failure filter_error "GaussLOD failed: Number of levels must be in 1..8"
+expect_failure filter_error "GaussLOD failed: Number of levels (maxLevel) must be between 1 and 8"
 
 if [ $failures -ne 0 ]; then echo "$failures check(s) failed"; exit 1; fi
 echo "all checks passed"

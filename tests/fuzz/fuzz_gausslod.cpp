@@ -54,11 +54,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	Reader r{data, size};
 	gausslod::Params params;
 	params.maxLevel = 1 + r.byte() % 5;
-	params.featureAngleDeg = 1 + r.byte() % 170;
-	params.straightenTolerance = (r.byte() % 16) * 0.02;
-	params.mergeDistance = (r.byte() % 16) * 0.02;
+	params.featureAngle = 1 + r.byte() % 170;
+	params.straightenTol = (r.byte() % 16) * 0.02; // (fractions of the diagonal)
+	params.mergeDist = (r.byte() % 16) * 0.02;
 	const uint8_t limits = r.byte();
-	params.deviationFactor = (limits % 4) * 0.75;
+	params.normalLimit = (limits % 4) * 0.75;
 	params.maxDistance = ((limits >> 2) % 4) * 0.01; // (same byte: earlier inputs keep their meaning)
 	const size_t nv = 3 + r.byte() % 40;
 	std::vector<double> pos(3 * nv);

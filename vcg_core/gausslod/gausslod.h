@@ -2,7 +2,7 @@
 //
 // Implements: Cao Weiqun, Bao Hujun, Peng Qunsheng, "An Algorithm for LOD by Merging Near Coplanar
 // Faces Based on Gauss Sphere", J. Comput. Sci. & Technol. 16(5), 2001, pp. 450-457.
-// How the paper is read, and the decisions on its ambiguities: docs/ALGORITHM.md of the project.
+// How the project reads the paper, and its decisions on the paper's ambiguities: docs/ALGORITHM.md.
 //
 // This header is the whole public API of the engine. It works on flat arrays (a triangle soup with
 // shared vertex indices); `vcg_adapter.h` converts from and to any VCG triangle mesh type.
@@ -40,55 +40,101 @@ struct MeshView {
 	size_t faceCount = 0;
 };
 
+/// The engine's parameters. Their names are those of the MeshLab filter, its .mlx scripts and
+/// (as --kebab-case) the gausslod tool; their defaults are the filter's, so a bare call gives the
+/// filter's levels. Distances are fractions of the input's bounding-box diagonal (the filter and
+/// the tool show them as percentages). paramSpecs() lists them with their ranges; buildLevels()
+/// checks them with validateParams().
 struct Params {
 	/// Number of levels (the paper's MaxLevel). Level i uses Gauss-sphere cells of 3^i x 3^i per
 	/// cube face; the finest level is maxLevel-1. Range 1..8.
 	int maxLevel = 5;
 	/// Bit i set = return level i (all levels are still computed, coarser ones need finer ones).
-	uint32_t levelMask = 0xffffffffu;
+	/// parseOutputLevels() reads the filter's text form ("all", "0,2").
+	uint32_t outputLevels = 0xffffffffu;
 	/// Vertex-class threshold (paper 2.3.2), degrees: A1 below = flat, A2 above = corner.
-	double featureAngleDeg = 30.0;
-	/// Border straightening tolerance (paper 2.3.1 + Douglas-Peucker), absolute distance in mesh
-	/// units: a border vertex farther than this from the straightened chain is kept. 0 = remove
-	/// only vertices exactly on their chain (within 1e-9 of the bounding-box diagonal).
-	double straightenTolerance = 0.0;
-	/// Normal-deviation limit, as a multiple of the level's bound sqrt(2)*90/3^i degrees: a
-	/// superface whose re-triangulation leaves an input face farther than this from the output
-	/// triangle covering it is retried with tighter straightening and merging (twice), then with its
-	/// border locked, then split into its finer children.
-	/// 0 = no limit (only flips beyond 90 degrees are refused).
-	double deviationFactor = 1.0;
-	/// Vicinity merge distance (paper 2.3.2), absolute: consecutive border vertices closer than this
-	/// merge (less important into more important; corners only receive). 0 = no merging.
-	double mergeDistance = 0.0;
-	/// Beyond the paper: distance tolerance, absolute. A superface is refused (retried with
-	/// tighter borders, then split into finer ones) if an input vertex it removes is farther than
-	/// this from the output: a removed border vertex from its straightened chain, a removed
-	/// interior vertex from the plane of the output triangle over a face it belongs to. Caps the
-	/// straightening tolerance at this value and the merge distance at half of it.
+	double featureAngle = 30.0;
+	/// Border straightening tolerance (paper 2.3.1 + Douglas-Peucker), fraction of the diagonal:
+	/// a border vertex farther than this from the straightened chain is kept. 0 = remove only
+	/// vertices exactly on their chain (within 1e-9 of the diagonal).
+	double straightenTol = 0.005;
+	/// Vicinity merge distance (paper 2.3.2), fraction of the diagonal: consecutive border
+	/// vertices closer than this merge (less important into more important; corners only
+	/// receive). 0 = no merging.
+	double mergeDist = 0.0025;
+	/// Beyond the paper: distance tolerance, fraction of the diagonal. A superface is refused
+	/// (retried with tighter borders, then split into finer ones) if an input vertex it removes is
+	/// farther than this from the output: a removed border vertex from its straightened chain, a
+	/// removed interior vertex from the plane of the output triangle over a face it belongs to.
+	/// Caps straightenTol at this value and mergeDist at half of it.
 	/// 0 = no distance limit (the paper: only normals decide).
 	double maxDistance = 0.0;
+	/// Normal-deviation limit, as a multiple of the level's bound sqrt(2)*90/3^i degrees: a
+	/// superface whose re-triangulation leaves an input face farther than this from the output
+	/// triangle covering it is retried with tighter straightening and merging (twice), then with
+	/// its border locked, then split into its finer children.
+	/// 0 = no limit (only flips beyond 90 degrees are refused).
+	double normalLimit = 1.0;
 	/// Beyond the paper: also merge adjacent superfaces of different (neighbouring) cells when all
 	/// their face normals still lie within the level's bound of each other (as inside one cell)
 	/// and within the feature angle (no sharp feature inside a merged superface). Removes the
 	/// splits that cell borders cut through near-flat or slightly noisy regions.
 	/// false = the paper's superfaces (faces of one cell only).
-	bool mergeAcrossCells = true;
-	/// Worker threads for the per-superface work; 0 = one per core (at most 64). The output does
-	/// not depend on it.
-	int threads = 0;
+	bool acrossCells = true;
 	/// Input repair, as MeshLab does to STL files on import: vertices at exactly the same position
 	/// become one (the first in index order), so that a triangle soup (STL, most CAD and BIM
 	/// exports) is simplified like the welded mesh. Faces then refer to that first vertex; the
 	/// positions array is not changed. false = vertices are joined only by shared indices.
 	bool weldVertices = true;
-	/// With weldVertices: a vertex within this distance (absolute) of an earlier vertex that was
-	/// kept becomes that vertex (the lowest index among them); every welded vertex is within this
-	/// distance of the vertex it became (no chains). 0 = exactly equal positions only.
+	/// With weldVertices: a vertex within this distance (fraction of the diagonal) of an earlier
+	/// vertex that was kept becomes that vertex (the lowest index among them); every welded
+	/// vertex is within this distance of the vertex it became (no chains). 0 = exactly equal
+	/// positions only.
 	double weldDistance = 0.0;
+	/// Worker threads for the per-superface work; 0 = one per core (at most 64). The output does
+	/// not depend on it.
+	int threads = 0;
 };
 
-/// Convenience: tolerances given as a fraction of the bounding-box diagonal.
+/// How a parameter's value is given.
+enum class ParamKind {
+	Integer,          ///< a whole number
+	Real,             ///< a number in the parameter's own unit (degrees, a factor)
+	DiagonalFraction, ///< a fraction of the bounding-box diagonal (shown as a percentage)
+	Flag,             ///< true / false
+	LevelList         ///< Params::outputLevels: "all" or a comma list of level indices
+};
+
+/// One parameter of Params, for front ends: the MeshLab filter builds its dialog from these, the
+/// gausslod tool its options (--kebab-case of `name`).
+struct ParamSpec {
+	const char *name;        ///< the Params member, filter and .mlx parameter name
+	ParamKind kind;
+	const char *label;       ///< the dialog's label
+	const char *summary;     ///< one line for the tool's help
+	const char *description; ///< the dialog's tooltip
+	double defaultValue;     ///< Params{}'s value (flags 0/1; unused for LevelList)
+	double min, max;         ///< valid range, inclusive unless `openRange`; max may be HUGE_VAL
+	bool openRange;          ///< min and max excluded
+	bool inFilter;           ///< a parameter of the MeshLab filter (threads is not)
+};
+
+/// Every parameter, in the order of the filter's dialog.
+const std::vector<ParamSpec> &paramSpecs();
+/// The spec called `name`, or nullptr.
+const ParamSpec *findParam(const std::string &name);
+/// A numeric or flag parameter's value as a double (false/true = 0/1); NaN for LevelList.
+double getParam(const Params &params, const ParamSpec &spec);
+/// Sets a numeric or flag parameter (rounded toward zero for Integer, != 0 for Flag); no check.
+void setParam(Params &params, const ParamSpec &spec, double value);
+/// "" if every parameter is in its range, else a message naming the first one that is not.
+std::string validateParams(const Params &params);
+/// "all" (any case) or a comma-separated list of level indices 0..maxLevel-1 (spaces allowed
+/// around them) into a Params::outputLevels mask. False with `error` set otherwise.
+bool parseOutputLevels(const std::string &text, int maxLevel, uint32_t &mask, std::string &error);
+
+/// The bounding-box diagonal of the (finite) vertex positions: what the distances are
+/// fractions of.
 double bboxDiagonal(const MeshView &mesh);
 
 /// What was repaired, skipped or locked in the input (the same for every level).

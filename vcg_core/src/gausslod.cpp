@@ -31,27 +31,6 @@ double bboxDiagonal(const MeshView &m)
 
 namespace {
 
-std::string validateParams(const Params &p)
-{
-	if (p.maxLevel < 1 || p.maxLevel > kMaxCellLevel + 1)
-		return "number of levels must be between 1 and " + std::to_string(kMaxCellLevel + 1);
-	if (!(p.featureAngleDeg > 0 && p.featureAngleDeg < 180))
-		return "feature angle must be between 0 and 180 degrees";
-	if (!(p.straightenTolerance >= 0 && std::isfinite(p.straightenTolerance)))
-		return "straightening tolerance must be a finite value >= 0";
-	if (!(p.deviationFactor >= 0 && std::isfinite(p.deviationFactor)))
-		return "normal deviation factor must be a finite value >= 0";
-	if (!(p.mergeDistance >= 0 && std::isfinite(p.mergeDistance)))
-		return "vicinity merge distance must be a finite value >= 0";
-	if (!(p.maxDistance >= 0 && std::isfinite(p.maxDistance)))
-		return "distance tolerance must be a finite value >= 0";
-	if (!(p.weldDistance >= 0 && std::isfinite(p.weldDistance)))
-		return "weld distance must be a finite value >= 0";
-	if (p.threads < 0)
-		return "number of threads must be >= 0 (0 = one per core)";
-	return {};
-}
-
 std::string validateMesh(const MeshView &m)
 {
 	if (m.faceCount == 0 || m.triangles == nullptr)
@@ -126,7 +105,8 @@ void weldInput(const MeshView &input, const Params &params, MeshView &mesh,
 	if (!params.weldVertices)
 		return;
 	std::vector<int32_t> rep;
-	stats.weldedVertices = detail::weldVertices(input, params.weldDistance, rep);
+	stats.weldedVertices =
+	    detail::weldVertices(input, params.weldDistance * bboxDiagonal(input), rep);
 	if (stats.weldedVertices == 0)
 		return;
 	welded.resize(3 * input.faceCount);
@@ -153,7 +133,7 @@ bool prepare(const MeshView &input, const Params &params, Result &res, MeshView 
 	if (!error.empty())
 		return fail(res, ErrorKind::BadInput, error);
 	weldInput(input, params, mesh, welded, res.input);
-	detail::buildTopology(mesh, params.featureAngleDeg, topo, threads, false);
+	detail::buildTopology(mesh, params.featureAngle, topo, threads, false);
 	countRepairs(mesh, topo, res.input);
 	if (res.input.facesSkipped() == mesh.faceCount)
 		return fail(res, ErrorKind::BadInput,
@@ -211,11 +191,11 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 		if (!prepare(input, params, res, mesh, welded, topo, threads))
 			return false;
 		const int finest = params.maxLevel - 1;
-		const bool across = params.mergeAcrossCells;
+		const bool across = params.acrossCells;
 		// cross-cell unions: normals within the level's bound of each other, and never across a
 		// feature (two normals farther apart than the feature angle: sharp stays sharp)
 		auto acrossLimit = [&](int level) {
-			return std::min(levelBoundDeg(level), params.featureAngleDeg);
+			return std::min(levelBoundDeg(level), params.featureAngle);
 		};
 		std::vector<Partition> parts(size_t(params.maxLevel));
 		// the face grid (for the levels' flip checks) is built while the finest partition is
@@ -279,7 +259,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 				            "internal error: level " + std::to_string(level) + " lost the surface of " +
 				                std::to_string(lost) +
 				                " input faces (no output triangle for their superface)");
-			const bool wanted = params.levelMask & (1u << level);
+			const bool wanted = params.outputLevels & (1u << level);
 			if (wanted && sink && !sink(lm))
 				return fail(res, ErrorKind::Cancelled, "cancelled");
 			if (wanted && !sink) {

@@ -14,14 +14,14 @@ LevelLimits levelLimits(const Params &prm, double diagonal, int level)
 	LevelLimits l;
 	// below this, border vertices count as exactly on their straightened chain
 	l.exact = 1e-9 * diagonal;
-	l.tolerance = std::max(prm.straightenTolerance, l.exact);
-	l.mergeDistance = prm.mergeDistance;
-	l.maxDistance = prm.maxDistance;
-	if (prm.maxDistance > 0) {
-		l.tolerance = std::min(l.tolerance, std::max(prm.maxDistance, l.exact));
-		l.mergeDistance = std::min(l.mergeDistance, 0.5 * prm.maxDistance);
+	l.tolerance = std::max(prm.straightenTol * diagonal, l.exact);
+	l.mergeDistance = prm.mergeDist * diagonal;
+	l.maxDistance = prm.maxDistance * diagonal;
+	if (l.maxDistance > 0) {
+		l.tolerance = std::min(l.tolerance, std::max(l.maxDistance, l.exact));
+		l.mergeDistance = std::min(l.mergeDistance, 0.5 * l.maxDistance);
 	}
-	l.devLimitDeg = prm.deviationFactor > 0 ? prm.deviationFactor * levelBoundDeg(level) : 180.0;
+	l.devLimitDeg = prm.normalLimit > 0 ? prm.normalLimit * levelBoundDeg(level) : 180.0;
 	return l;
 }
 

@@ -1,0 +1,253 @@
+// The parameters' one source of truth: names, ranges, texts (the filter's dialog and the tool's
+// help are built from them), validation, and the output-level list. Defaults are Params{}'s.
+#include "engine.h"
+
+#include <cctype>
+#include <cstdio>
+#include <cstdlib>
+
+namespace gausslod {
+
+namespace {
+
+// A ParamSpec and the Params member it describes (one of the three pointers).
+struct Entry {
+	ParamSpec spec;
+	int Params::*integer;
+	double Params::*real;
+	bool Params::*flag;
+};
+
+std::vector<Entry> makeEntries()
+{
+	const Params d;
+	const double kLevels = kMaxCellLevel + 1, kInf = HUGE_VAL;
+	using K = ParamKind;
+	return {
+	    {{"maxLevel", K::Integer, "Number of levels", "number of levels, 1..8",
+	      "How many levels of detail to build (the paper's MaxLevel), 1..8. Level i groups normals "
+	      "in 3^i x 3^i Gauss-sphere cells per cube face; its normal deviation bound is "
+	      "sqrt(2)*90/3^i degrees: level 0 = 127 deg (coarsest), 1 = 42.4, 2 = 14.1, 3 = 4.71, "
+	      "4 = 1.57 deg, ...",
+	      double(d.maxLevel), 1, kLevels, false, true},
+	     &Params::maxLevel, nullptr, nullptr},
+	    {{"outputLevels", K::LevelList, "Output levels",
+	      "\"all\" or a comma list of levels to write, 0 = coarsest",
+	      "Which levels become layers: \"all\", or a comma-separated list of level indices, "
+	      "0 = coarsest to (number of levels - 1) = finest, e.g. \"0,2\". All levels are "
+	      "computed either way, since each coarser level is made from the finer one.",
+	      0, 0, 0, false, true},
+	     nullptr, nullptr, nullptr},
+	    {{"featureAngle", K::Real, "Feature angle (deg)", "vertex-class threshold, degrees",
+	      "Angle in degrees (between 0 and 180) that classifies border vertices: a vertex "
+	      "whose incident normals all lie within it is flat, one with two groups of normals "
+	      "that each spread beyond it is a corner, else an edge vertex. Corners are never "
+	      "merged away.",
+	      d.featureAngle, 0, 180, true, true},
+	     nullptr, &Params::featureAngle, nullptr},
+	    {{"straightenTol", K::DiagonalFraction, "Border straightening tolerance",
+	      "border straightening tolerance, % of bbox diagonal",
+	      "Distance in mesh units (the percentage is of the bounding-box diagonal; default "
+	      "0.5%): a border vertex farther than this from the straightened border between two "
+	      "superfaces is kept. 0 removes only exactly collinear border vertices. In a saved "
+	      "script the percentage is what is kept: it is applied to the diagonal of the mesh the "
+	      "script runs on.",
+	      d.straightenTol, 0, 1, false, true},
+	     nullptr, &Params::straightenTol, nullptr},
+	    {{"mergeDist", K::DiagonalFraction, "Vertex merge distance",
+	      "vicinity merge distance, % of bbox diagonal",
+	      "Distance in mesh units (the percentage is of the bounding-box diagonal; default "
+	      "0.25%): consecutive border vertices closer than this are merged, the less important "
+	      "into the more important. 0 disables merging. In a saved script the percentage is "
+	      "what is kept.",
+	      d.mergeDist, 0, 1, false, true},
+	     nullptr, &Params::mergeDist, nullptr},
+	    {{"maxDistance", K::DiagonalFraction, "Distance tolerance",
+	      "distance tolerance, % of bbox diagonal; 0 = none",
+	      "Beyond the paper: distance in mesh units (the percentage is of the bounding-box "
+	      "diagonal) that no removed input vertex may end farther than from the output. A "
+	      "superface that would is retried with tighter borders, then split into finer "
+	      "superfaces; it also caps the straightening tolerance (and the merge distance at "
+	      "half of it). Coarse levels then keep more faces on curved parts. 0 = no distance "
+	      "limit (default: only normals decide, as in the paper).",
+	      d.maxDistance, 0, 1, false, true},
+	     nullptr, &Params::maxDistance, nullptr},
+	    {{"normalLimit", K::Real, "Normal deviation limit (x level bound)",
+	      "normal deviation limit, x each level's bound; 0 = none",
+	      "Guarantee on the result, as a multiple of each level's bound sqrt(2)*90/3^i deg: "
+	      "a superface whose re-triangulation leaves an input face farther than this from the "
+	      "output triangle covering it is retried with tighter borders, then with its border "
+	      "kept, then split into finer superfaces. 1 = the paper's bound (default); larger "
+	      "values simplify more; 0 = no limit (only flipped triangles are refused).",
+	      d.normalLimit, 0, kInf, false, true},
+	     nullptr, &Params::normalLimit, nullptr},
+	    {{"acrossCells", K::Flag, "Merge across cell borders",
+	      "merge across cell borders (false = the paper's superfaces)",
+	      "Beyond the paper: also merge neighbouring superfaces of different Gauss-sphere "
+	      "cells when all their face normals stay within the level's bound of each other (and "
+	      "within the feature angle, so sharp edges stay sharp). Fewer faces on near-flat or "
+	      "slightly noisy regions that a cell border would cut. Off = the paper's superfaces "
+	      "(faces of one cell only).",
+	      double(d.acrossCells), 0, 1, false, true},
+	     nullptr, nullptr, &Params::acrossCells},
+	    {{"weldVertices", K::Flag, "Weld coincident vertices",
+	      "weld vertices at the same position",
+	      "Vertices at exactly the same position are joined before simplifying (the first "
+	      "one is kept), as MeshLab does to STL files on import: a triangle soup (STL, most "
+	      "CAD and BIM exports) then has the shared edges its superfaces grow across. The "
+	      "input is not changed; the log says how many were welded. Off = only vertices "
+	      "that faces already share are joined.",
+	      double(d.weldVertices), 0, 1, false, true},
+	     nullptr, nullptr, &Params::weldVertices},
+	    {{"weldDistance", K::DiagonalFraction, "Weld distance",
+	      "also weld vertices closer than this, % of bbox diagonal",
+	      "With welding on: vertices closer than this (mesh units; the percentage is of the "
+	      "bounding-box diagonal) to an earlier kept vertex are joined to it too, for files "
+	      "whose coincident vertices differ by rounding. 0 = exactly equal positions only "
+	      "(default).",
+	      d.weldDistance, 0, 1, false, true},
+	     nullptr, &Params::weldDistance, nullptr},
+	    {{"threads", K::Integer, "Worker threads",
+	      "worker threads, 0 = one per core",
+	      "Worker threads, 0 = one per core (at most 64); the output does not depend on it.",
+	      double(d.threads), 0, kInf, false, false},
+	     &Params::threads, nullptr, nullptr},
+	};
+}
+
+const std::vector<Entry> &entries()
+{
+	static const std::vector<Entry> e = makeEntries();
+	return e;
+}
+
+const Entry *entryOf(const ParamSpec &spec)
+{
+	const std::vector<ParamSpec> &specs = paramSpecs();
+	if (&spec >= specs.data() && &spec < specs.data() + specs.size())
+		return &entries()[size_t(&spec - specs.data())];
+	for (const Entry &e : entries()) // (a copy of a spec)
+		if (std::string(e.spec.name) == spec.name)
+			return &e;
+	return nullptr;
+}
+
+std::string number(double x)
+{
+	char buf[32];
+	std::snprintf(buf, sizeof buf, "%g", x);
+	return buf;
+}
+
+// "between 0 and 180, exclusive" / "a finite value >= 0", in the unit the front ends show
+std::string rangeText(const ParamSpec &s)
+{
+	const bool percent = s.kind == ParamKind::DiagonalFraction;
+	const double scale = percent ? 100 : 1;
+	const char *unit = percent ? " % of the bounding-box diagonal" : "";
+	if (!std::isfinite(s.max))
+		return "a finite value >= " + number(s.min * scale);
+	return "between " + number(s.min * scale) + " and " + number(s.max * scale) + unit +
+	       (s.openRange ? ", exclusive" : "");
+}
+
+std::string trim(const std::string &s)
+{
+	size_t b = 0, e = s.size();
+	while (b < e && std::isspace(static_cast<unsigned char>(s[b])))
+		++b;
+	while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1])))
+		--e;
+	return s.substr(b, e - b);
+}
+
+} // namespace
+
+const std::vector<ParamSpec> &paramSpecs()
+{
+	static const std::vector<ParamSpec> specs = [] {
+		std::vector<ParamSpec> v;
+		for (const Entry &e : entries())
+			v.push_back(e.spec);
+		return v;
+	}();
+	return specs;
+}
+
+const ParamSpec *findParam(const std::string &name)
+{
+	for (const ParamSpec &s : paramSpecs())
+		if (name == s.name)
+			return &s;
+	return nullptr;
+}
+
+double getParam(const Params &p, const ParamSpec &spec)
+{
+	const Entry *e = entryOf(spec);
+	if (e == nullptr || spec.kind == ParamKind::LevelList)
+		return NAN;
+	return e->integer ? double(p.*(e->integer)) : e->real ? p.*(e->real) : double(p.*(e->flag));
+}
+
+void setParam(Params &p, const ParamSpec &spec, double value)
+{
+	const Entry *e = entryOf(spec);
+	if (e == nullptr || spec.kind == ParamKind::LevelList)
+		return;
+	if (e->integer)
+		p.*(e->integer) = std::isfinite(value) && std::fabs(value) < 2e9 ? int(value) : -1;
+	else if (e->real)
+		p.*(e->real) = value;
+	else
+		p.*(e->flag) = value != 0;
+}
+
+std::string validateParams(const Params &p)
+{
+	for (const ParamSpec &s : paramSpecs()) {
+		if (s.kind == ParamKind::LevelList || s.kind == ParamKind::Flag)
+			continue;
+		const double v = getParam(p, s);
+		const bool in = std::isfinite(v) && (s.openRange ? v > s.min && v < s.max
+		                                                 : v >= s.min && v <= s.max);
+		if (!in) {
+			const bool percent = s.kind == ParamKind::DiagonalFraction;
+			return std::string(s.label) + " (" + s.name + ") must be " + rangeText(s) + " (got " +
+			       number(percent ? 100 * v : v) + (percent ? " %)" : ")");
+		}
+	}
+	return {};
+}
+
+bool parseOutputLevels(const std::string &text, int maxLevel, uint32_t &mask, std::string &error)
+{
+	std::string all = trim(text);
+	for (char &c : all)
+		c = char(std::tolower(static_cast<unsigned char>(c)));
+	if (all == "all") {
+		mask = maxLevel >= 32 ? 0xffffffffu : (1u << maxLevel) - 1u;
+		return true;
+	}
+	mask = 0;
+	size_t from = 0;
+	for (;;) {
+		const size_t comma = text.find(',', from);
+		const std::string item = trim(text.substr(from, comma - from));
+		char *end = nullptr;
+		const long level = std::strtol(item.c_str(), &end, 10);
+		if (item.empty() || *end != 0 || level < 0 || level >= maxLevel) {
+			error = "Output levels (outputLevels): '" + item +
+			        "' is not a level index; write \"all\" or a comma list of numbers from 0 "
+			        "(coarsest) to " +
+			        std::to_string(maxLevel - 1) + " (finest, = number of levels - 1)";
+			return false;
+		}
+		mask |= 1u << level;
+		if (comma == std::string::npos)
+			return true;
+		from = comma + 1;
+	}
+}
+
+} // namespace gausslod
