@@ -37,7 +37,8 @@ TEST(Params, an_out_of_range_value_is_refused_by_its_name)
 			Params p;
 			setParam(p, s, bad);
 			const std::string e = validateParams(p);
-			EXPECT_NE(e.find(std::string("(") + s.name + ")"), std::string::npos) << s.name << ": " << e;
+			EXPECT_NE(e.find(std::string("(") + s.name + ")"), std::string::npos)
+			    << s.name << ": " << e;
 		}
 		Params p;
 		setParam(p, s, s.max == HUGE_VAL ? s.min + 1 : s.openRange ? 0.5 * (s.min + s.max) : s.max);

@@ -75,7 +75,9 @@ void findBorders(const Topology &t, const Partition &p, const FallbackState &fb,
 			int32_t d = 0;
 			for (int32_t q = t.vfStart[v]; q < t.vfStart[v + 1]; ++q) {
 				const int32_t f = t.vfFace[size_t(q)];
-				const int32_t k = t.T[3 * f] == int32_t(v) ? 0 : t.T[3 * f + 1] == int32_t(v) ? 1 : 2;
+				const int32_t k = t.T[3 * f] == int32_t(v)       ? 0
+				                  : t.T[3 * f + 1] == int32_t(v) ? 1
+				                                                 : 2;
 				for (const int32_t h : {3 * f + k, 3 * f + (k + 2) % 3}) // out of v, into v
 					if (b.border[size_t(h)] && (t.twin[size_t(h)] < 0 || h < t.twin[size_t(h)]))
 						++d;

@@ -123,7 +123,8 @@ bool faceTooFar(const TriangulationInput &in, int32_t s, size_t i, int32_t k, co
 	int cur = 0;
 	const int cnt = clipByTriangle(fxy, w.job.xy, &w.job.tris[3 * size_t(k)], poly, cur);
 	// the gap at each corner of the clipped part (barycentric in the face)
-	const double det = (fxy[2] - fxy[0]) * (fxy[5] - fxy[1]) - (fxy[4] - fxy[0]) * (fxy[3] - fxy[1]);
+	const double det =
+	    (fxy[2] - fxy[0]) * (fxy[5] - fxy[1]) - (fxy[4] - fxy[0]) * (fxy[3] - fxy[1]);
 	if (!(std::fabs(det) > 0))
 		return true; // a face seen edge-on in the projection: not measurable, refused
 	double clippedMax = 0;

@@ -35,7 +35,8 @@ void chooseFallbacks(const Topology &t, const SuperfaceFaces &faces, const Faile
 					allLocked = false;
 			}
 		const int step = fb.tolStep[size_t(faces.face[size_t(fbeg)])];
-		if (fend - fbeg > 1 && sf.second == Failure::Deviation && !allLocked && step < kMaxTolSteps) {
+		if (fend - fbeg > 1 && sf.second == Failure::Deviation && !allLocked &&
+		    step < kMaxTolSteps) {
 			for (int32_t i = fbeg; i < fend; ++i) {
 				const int32_t f = faces.face[size_t(i)];
 				fb.tolStep[size_t(f)] = uint8_t(step + 1);
@@ -64,8 +65,8 @@ void chooseFallbacks(const Topology &t, const SuperfaceFaces &faces, const Faile
 // superfaces of the finer partition, or the input faces themselves. parentOf[i] = the superface
 // split into new superface base + i.
 void splitIntoChildren(const Topology &t, const std::vector<Partition> &finer,
-                       const SuperfaceFaces &faces, const std::vector<uint8_t> &split,
-                       Partition &p, std::vector<int32_t> &relabeled, std::vector<int32_t> &parentOf)
+                       const SuperfaceFaces &faces, const std::vector<uint8_t> &split, Partition &p,
+                       std::vector<int32_t> &relabeled, std::vector<int32_t> &parentOf)
 {
 	const int finest = int(finer.size()) - 1;
 	const size_t base = p.count();
@@ -125,7 +126,7 @@ void renumber(const Topology &t, size_t base, const std::vector<uint8_t> &split,
               SuperfaceFaces &faces, std::vector<int32_t> &prevOf, FallbackArrays &spare)
 {
 	const size_t temps = p.count() - base;
-	std::vector<int32_t> childSize(temps, 0); // (then: where its next face goes)
+	std::vector<int32_t> childSize(temps, 0);        // (then: where its next face goes)
 	std::vector<std::pair<int32_t, int32_t>> firsts; // (first face, new superface)
 	size_t nSplit = 0;
 	for (size_t s = 0; s < base; ++s) {
@@ -200,9 +201,10 @@ uint64_t directedEdge(int32_t a, int32_t b) { return uint64_t(uint32_t(a)) << 32
 
 } // namespace
 
-void applyFallbacks(const Topology &t, const std::vector<Partition> &finer, const FailedList &failed,
-                    const Borders &b, size_t threads, Partition &p, SuperfaceFaces &faces,
-                    FallbackState &fb, ReuseCache &cache, FallbackArrays &spare)
+void applyFallbacks(const Topology &t, const std::vector<Partition> &finer,
+                    const FailedList &failed, const Borders &b, size_t threads, Partition &p,
+                    SuperfaceFaces &faces, FallbackState &fb, ReuseCache &cache,
+                    FallbackArrays &spare)
 {
 	// `faces` is that of the round that just failed: labels have not changed yet
 	spare.split.assign(p.count(), 0);
@@ -239,8 +241,9 @@ bool reuseTriangles(const TriangulationInput &in, int32_t s, const Cached &now,
 	for (int32_t k = c.triBegin; k < c.triEnd; ++k)
 		for (int e = 0; e < 3; ++e)
 			if (cache.triBorder[size_t(k)] & (1u << e))
-				w.edgesBefore.push_back(directedEdge(cache.tris[3 * size_t(k) + size_t(e)],
-				                                     cache.tris[3 * size_t(k) + size_t(e + 1) % 3]));
+				w.edgesBefore.push_back(
+				    directedEdge(cache.tris[3 * size_t(k) + size_t(e)],
+				                 cache.tris[3 * size_t(k) + size_t(e + 1) % 3]));
 	w.edgesNow.clear();
 	for (int32_t r = in.rings.sfStart[size_t(s)]; r < in.rings.sfStart[size_t(s) + 1]; ++r) {
 		int32_t first = -1, prev = -1;
@@ -265,7 +268,8 @@ bool reuseTriangles(const TriangulationInput &in, int32_t s, const Cached &now,
 	std::sort(w.edgesBefore.begin(), w.edgesBefore.end());
 	if (w.edgesNow != w.edgesBefore)
 		return false;
-	o.tris.insert(o.tris.end(), cache.tris.begin() + 3 * c.triBegin, cache.tris.begin() + 3 * c.triEnd);
+	o.tris.insert(o.tris.end(), cache.tris.begin() + 3 * c.triBegin,
+	              cache.tris.begin() + 3 * c.triEnd);
 	o.triBorder.insert(o.triBorder.end(), cache.triBorder.begin() + c.triBegin,
 	                   cache.triBorder.begin() + c.triEnd);
 	o.retriangulated += c.retriangulated; // (its faces keep their deviations)

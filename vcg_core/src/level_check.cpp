@@ -29,8 +29,8 @@ void inputUse(const Topology &t, int32_t a, int32_t b, int &count, int &forward)
 
 // The sides [i, j) of one edge (v, i->hi): marks the superfaces of its new triangles bad if the
 // edge is used wrongly.
-void checkEdge(const Topology &t, const LevelTriangles &lt, int32_t v, const Side *i,
-               const Side *j, std::vector<uint8_t> &bad)
+void checkEdge(const Topology &t, const LevelTriangles &lt, int32_t v, const Side *i, const Side *j,
+               std::vector<uint8_t> &bad)
 {
 	const size_t cnt = size_t(j - i);
 	bool anyNew = false;

@@ -102,7 +102,7 @@ private:
 	ReuseCache prev_;            ///< the previous round's
 	FallbackArrays spare_;
 	// output of a round
-	LevelTriangles tri_; ///< (after a patch round with failures: see concatenate)
+	LevelTriangles tri_;  ///< (after a patch round with failures: see concatenate)
 	size_t liveTris_ = 0; ///< triangles of the round's superfaces
 	size_t retriangulated_ = 0;
 	FailedList failed_;
@@ -277,7 +277,8 @@ bool LevelRounds::appendPatch(size_t rebuilt, size_t live)
 			                      o.triBorder.begin() + cc.triEnd);
 			cc.triEnd = begin + (cc.triEnd - cc.triBegin), cc.triBegin = begin;
 		}
-		failed_.insert(failed_.end(), o.failed.begin(), o.failed.end()), failedTris_ += o.failedTris;
+		failed_.insert(failed_.end(), o.failed.begin(), o.failed.end()),
+		    failedTris_ += o.failedTris;
 		retriangulated_ += o.retriangulated;
 		o = ChunkOut(); // (frees its memory)
 	}
@@ -311,7 +312,8 @@ void LevelRounds::concatenate(size_t live, bool failures)
 			if (!rebuilt)
 				retriangulated_ += cc.retriangulated;
 		}
-		failed_.insert(failed_.end(), o.failed.begin(), o.failed.end()), failedTris_ += o.failedTris;
+		failed_.insert(failed_.end(), o.failed.begin(), o.failed.end()),
+		    failedTris_ += o.failedTris;
 		retriangulated_ += o.retriangulated;
 		o = ChunkOut(); // (frees its memory)
 	}

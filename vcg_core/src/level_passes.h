@@ -51,20 +51,20 @@ struct SuperfaceFaces {
 /// Border state of a round (2.2.2) and the vertices the simplified borders keep (2.3).
 struct Borders {
 	static constexpr uint8_t kVisited = 2;
-	std::vector<uint8_t> border;   ///< per half-edge: 1 = border (| kVisited while tracing)
-	std::vector<int32_t> degree;   ///< border edges per vertex
-	std::vector<uint8_t> junction; ///< per vertex: a chain ends here
-	std::vector<uint8_t> keep;     ///< per vertex: kept by the simplified borders
-	std::vector<uint8_t> changed;  ///< patch round: degree or junction status changed
+	std::vector<uint8_t> border;      ///< per half-edge: 1 = border (| kVisited while tracing)
+	std::vector<int32_t> degree;      ///< border edges per vertex
+	std::vector<uint8_t> junction;    ///< per vertex: a chain ends here
+	std::vector<uint8_t> keep;        ///< per vertex: kept by the simplified borders
+	std::vector<uint8_t> changed;     ///< patch round: degree or junction status changed
 	std::vector<int32_t> changedList; ///< the vertices marked in `changed`
 };
 
 /// What the fallbacks of a level accumulate, and what the last ones changed (the inputs of the
 /// next, patch, round).
 struct FallbackState {
-	std::vector<uint8_t> extraLock; ///< per vertex: locked by a fallback
-	std::vector<uint8_t> tolStep;   ///< per face: its superface's tolerances were divided by 4
-	                                ///< this many times
+	std::vector<uint8_t> extraLock;   ///< per vertex: locked by a fallback
+	std::vector<uint8_t> tolStep;     ///< per face: its superface's tolerances were divided by 4
+	                                  ///< this many times
 	std::vector<int32_t> relabeled;   ///< faces whose superface the last fallbacks split
 	std::vector<int32_t> failedFace;  ///< a face of each superface that failed last round
 	std::vector<int32_t> lockedNow;   ///< vertices the last fallbacks locked
@@ -138,9 +138,9 @@ struct Scratch {
 /// faces (several per thread, for balance), run on up to `threads` threads.
 struct Chunks {
 	size_t threads = 1;
-	std::vector<Scratch> scratch;  ///< per thread
-	std::vector<int32_t> start;    ///< chunk c = superfaces [start[c], start[c+1])
-	std::vector<ChunkOut> out;     ///< per chunk
+	std::vector<Scratch> scratch; ///< per thread
+	std::vector<int32_t> start;   ///< chunk c = superfaces [start[c], start[c+1])
+	std::vector<ChunkOut> out;    ///< per chunk
 
 	void make(const SuperfaceFaces &faces, size_t superfaces, size_t nF);
 	/// Runs fn(chunk, scratch) for every chunk; the first exception is rethrown.
@@ -177,9 +177,9 @@ struct Cached {
 
 /// The previous round's triangles, for the superfaces a fallback round does not change.
 struct ReuseCache {
-	std::vector<Cached> prev;      ///< per superface of the previous round
-	std::vector<int32_t> prevOf;   ///< per superface: its (or its parent's) previous id
-	std::vector<int32_t> tris;     ///< the previous round's triangles
+	std::vector<Cached> prev;    ///< per superface of the previous round
+	std::vector<int32_t> prevOf; ///< per superface: its (or its parent's) previous id
+	std::vector<int32_t> tris;   ///< the previous round's triangles
 	std::vector<uint8_t> triBorder;
 };
 
@@ -256,9 +256,10 @@ struct FallbackArrays {
 };
 /// Retries, locks or splits each failed superface; relabels p and regroups `faces` for the next
 /// round; sets cache.prevOf.
-void applyFallbacks(const Topology &t, const std::vector<Partition> &finer, const FailedList &failed,
-                    const Borders &b, size_t threads, Partition &p, SuperfaceFaces &faces,
-                    FallbackState &fb, ReuseCache &cache, FallbackArrays &spare);
+void applyFallbacks(const Topology &t, const std::vector<Partition> &finer,
+                    const FailedList &failed, const Borders &b, size_t threads, Partition &p,
+                    SuperfaceFaces &faces, FallbackState &fb, ReuseCache &cache,
+                    FallbackArrays &spare);
 /// Copies superface s's triangles of the previous round into o if its faces and its kept
 /// outline are the same.
 bool reuseTriangles(const TriangulationInput &in, int32_t s, const Cached &now,

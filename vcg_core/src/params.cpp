@@ -13,9 +13,14 @@ namespace {
 // A ParamSpec and the Params member it describes (one of the three pointers).
 struct Entry {
 	ParamSpec spec;
-	int Params::*integer;
-	double Params::*real;
-	bool Params::*flag;
+	int Params::*integer = nullptr;
+	double Params::*real = nullptr;
+	bool Params::*flag = nullptr;
+
+	Entry(const ParamSpec &s) : spec(s) {}
+	Entry(const ParamSpec &s, int Params::*m) : spec(s), integer(m) {}
+	Entry(const ParamSpec &s, double Params::*m) : spec(s), real(m) {}
+	Entry(const ParamSpec &s, bool Params::*m) : spec(s), flag(m) {}
 };
 
 std::vector<Entry> makeEntries()
@@ -30,21 +35,20 @@ std::vector<Entry> makeEntries()
 	      "sqrt(2)*90/3^i degrees: level 0 = 127 deg (coarsest), 1 = 42.4, 2 = 14.1, 3 = 4.71, "
 	      "4 = 1.57 deg, ...",
 	      double(d.maxLevel), 1, kLevels, false, true},
-	     &Params::maxLevel, nullptr, nullptr},
+	     &Params::maxLevel},
 	    {{"outputLevels", K::LevelList, "Output levels",
 	      "\"all\" or a comma list of levels to write, 0 = coarsest",
 	      "Which levels become layers: \"all\", or a comma-separated list of level indices, "
 	      "0 = coarsest to (number of levels - 1) = finest, e.g. \"0,2\". All levels are "
 	      "computed either way, since each coarser level is made from the finer one.",
-	      0, 0, 0, false, true},
-	     nullptr, nullptr, nullptr},
+	      0, 0, 0, false, true}},
 	    {{"featureAngle", K::Real, "Feature angle (deg)", "vertex-class threshold, degrees",
 	      "Angle in degrees (between 0 and 180) that classifies border vertices: a vertex "
 	      "whose incident normals all lie within it is flat, one with two groups of normals "
 	      "that each spread beyond it is a corner, else an edge vertex. Corners are never "
 	      "merged away.",
 	      d.featureAngle, 0, 180, true, true},
-	     nullptr, &Params::featureAngle, nullptr},
+	     &Params::featureAngle},
 	    {{"straightenTol", K::DiagonalFraction, "Border straightening tolerance",
 	      "border straightening tolerance, % of bbox diagonal",
 	      "Distance in mesh units (the percentage is of the bounding-box diagonal; default "
@@ -53,7 +57,7 @@ std::vector<Entry> makeEntries()
 	      "script the percentage is what is kept: it is applied to the diagonal of the mesh the "
 	      "script runs on.",
 	      d.straightenTol, 0, 1, false, true},
-	     nullptr, &Params::straightenTol, nullptr},
+	     &Params::straightenTol},
 	    {{"mergeDist", K::DiagonalFraction, "Vertex merge distance",
 	      "vicinity merge distance, % of bbox diagonal",
 	      "Distance in mesh units (the percentage is of the bounding-box diagonal; default "
@@ -61,7 +65,7 @@ std::vector<Entry> makeEntries()
 	      "into the more important. 0 disables merging. In a saved script the percentage is "
 	      "what is kept.",
 	      d.mergeDist, 0, 1, false, true},
-	     nullptr, &Params::mergeDist, nullptr},
+	     &Params::mergeDist},
 	    {{"maxDistance", K::DiagonalFraction, "Distance tolerance",
 	      "distance tolerance, % of bbox diagonal; 0 = none",
 	      "Beyond the paper: distance in mesh units (the percentage is of the bounding-box "
@@ -71,7 +75,7 @@ std::vector<Entry> makeEntries()
 	      "half of it). Coarse levels then keep more faces on curved parts. 0 = no distance "
 	      "limit (default: only normals decide, as in the paper).",
 	      d.maxDistance, 0, 1, false, true},
-	     nullptr, &Params::maxDistance, nullptr},
+	     &Params::maxDistance},
 	    {{"normalLimit", K::Real, "Normal deviation limit (x level bound)",
 	      "normal deviation limit, x each level's bound; 0 = none",
 	      "Guarantee on the result, as a multiple of each level's bound sqrt(2)*90/3^i deg: "
@@ -80,7 +84,7 @@ std::vector<Entry> makeEntries()
 	      "kept, then split into finer superfaces. 1 = the paper's bound (default); larger "
 	      "values simplify more; 0 = no limit (only flipped triangles are refused).",
 	      d.normalLimit, 0, kInf, false, true},
-	     nullptr, &Params::normalLimit, nullptr},
+	     &Params::normalLimit},
 	    {{"acrossCells", K::Flag, "Merge across cell borders",
 	      "merge across cell borders (false = the paper's superfaces)",
 	      "Beyond the paper: also merge neighbouring superfaces of different Gauss-sphere "
@@ -89,16 +93,15 @@ std::vector<Entry> makeEntries()
 	      "slightly noisy regions that a cell border would cut. Off = the paper's superfaces "
 	      "(faces of one cell only).",
 	      double(d.acrossCells), 0, 1, false, true},
-	     nullptr, nullptr, &Params::acrossCells},
-	    {{"weldVertices", K::Flag, "Weld coincident vertices",
-	      "weld vertices at the same position",
+	     &Params::acrossCells},
+	    {{"weldVertices", K::Flag, "Weld coincident vertices", "weld vertices at the same position",
 	      "Vertices at exactly the same position are joined before simplifying (the first "
 	      "one is kept), as MeshLab does to STL files on import: a triangle soup (STL, most "
 	      "CAD and BIM exports) then has the shared edges its superfaces grow across. The "
 	      "input is not changed; the log says how many were welded. Off = only vertices "
 	      "that faces already share are joined.",
 	      double(d.weldVertices), 0, 1, false, true},
-	     nullptr, nullptr, &Params::weldVertices},
+	     &Params::weldVertices},
 	    {{"weldDistance", K::DiagonalFraction, "Weld distance",
 	      "also weld vertices closer than this, % of bbox diagonal",
 	      "With welding on: vertices closer than this (mesh units; the percentage is of the "
@@ -106,12 +109,11 @@ std::vector<Entry> makeEntries()
 	      "whose coincident vertices differ by rounding. 0 = exactly equal positions only "
 	      "(default).",
 	      d.weldDistance, 0, 1, false, true},
-	     nullptr, &Params::weldDistance, nullptr},
-	    {{"threads", K::Integer, "Worker threads",
-	      "worker threads, 0 = one per core",
+	     &Params::weldDistance},
+	    {{"threads", K::Integer, "Worker threads", "worker threads, 0 = one per core",
 	      "Worker threads, 0 = one per core (at most 64); the output does not depend on it.",
 	      double(d.threads), 0, kInf, false, false},
-	     &Params::threads, nullptr, nullptr},
+	     &Params::threads},
 	};
 }
 
@@ -209,8 +211,8 @@ std::string validateParams(const Params &p)
 		if (s.kind == ParamKind::LevelList || s.kind == ParamKind::Flag)
 			continue;
 		const double v = getParam(p, s);
-		const bool in = std::isfinite(v) && (s.openRange ? v > s.min && v < s.max
-		                                                 : v >= s.min && v <= s.max);
+		const bool in =
+		    std::isfinite(v) && (s.openRange ? v > s.min && v < s.max : v >= s.min && v <= s.max);
 		if (!in) {
 			const bool percent = s.kind == ParamKind::DiagonalFraction;
 			return std::string(s.label) + " (" + s.name + ") must be " + rangeText(s) + " (got " +

@@ -241,8 +241,8 @@ struct Chains {
 		for (int32_t q = t.vfStart[size_t(a)]; q < t.vfStart[size_t(a) + 1]; ++q)
 			for (int k = 0; k < 3; ++k) {
 				const int32_t h = 3 * t.vfFace[size_t(q)] + k;
-				if (b.border[size_t(h)] && ((t.heFrom(h) == a && t.heTo(h) == c) ||
-				                            (t.heFrom(h) == c && t.heTo(h) == a)))
+				if (b.border[size_t(h)] &&
+				    ((t.heFrom(h) == a && t.heTo(h) == c) || (t.heFrom(h) == c && t.heTo(h) == a)))
 					return true;
 			}
 		return false;
@@ -258,12 +258,15 @@ struct Chains {
 		// a patch round (where a pass over every vertex would cost more than the pieces)
 		auto lo = [&](size_t i) { return std::min(pieces[i].a, pieces[i].b); };
 		auto hi = [&](int32_t i) { return std::max(pieces[size_t(i)].a, pieces[size_t(i)].b); };
-		auto key = [&](int32_t i) { return uint64_t(uint32_t(lo(size_t(i)))) << 32 | uint32_t(hi(i)); };
+		auto key = [&](int32_t i) {
+			return uint64_t(uint32_t(lo(size_t(i)))) << 32 | uint32_t(hi(i));
+		};
 		std::vector<int32_t> order;
 		if (pieces.size() >= in.t.nV / 16) {
 			std::vector<int32_t> start;
-			bucketSort(pieces.size(), in.t.nV, lo, [&](int32_t i, int32_t j) { return hi(i) < hi(j); },
-			           start, order);
+			bucketSort(
+			    pieces.size(), in.t.nV, lo, [&](int32_t i, int32_t j) { return hi(i) < hi(j); },
+			    start, order);
 		} else {
 			order.resize(pieces.size());
 			for (size_t i = 0; i < order.size(); ++i)
@@ -296,7 +299,8 @@ void straightenBorders(const ChainInput &in, Chunks &chunks, Borders &b)
 	Chains chains{in, b};
 	chunks.forEach([&](size_t c, Scratch &w) {
 		for (int32_t sf = chunks.start[c]; sf < chunks.start[c + 1]; ++sf)
-			for (int32_t r = in.rings.sfStart[size_t(sf)]; r < in.rings.sfStart[size_t(sf) + 1]; ++r)
+			for (int32_t r = in.rings.sfStart[size_t(sf)]; r < in.rings.sfStart[size_t(sf) + 1];
+			     ++r)
 				chains.collectRing(sf, r, w, chunks.out[c]);
 	});
 	// (a patch round separates the recomputed pieces among themselves; one that straightens

@@ -100,7 +100,8 @@ void projectSuperface(const TriangulationInput &in, int32_t s, const Vec3 &N, Sc
 
 double faceDist2(const Topology &t, const Vec3 &p, int32_t f)
 {
-	return pointTriangleDistance2(p, t.pos(t.T[3 * f]), t.pos(t.T[3 * f + 1]), t.pos(t.T[3 * f + 2]));
+	return pointTriangleDistance2(p, t.pos(t.T[3 * f]), t.pos(t.T[3 * f + 1]),
+	                              t.pos(t.T[3 * f + 2]));
 }
 
 // Normals and centroids of the new triangles (from firstTri); false if one is degenerate.
