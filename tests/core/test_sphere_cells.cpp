@@ -1,6 +1,6 @@
 // 2.1 Gauss sphere cells: codes, nesting, neighbourhoods, bounds.
 #include "gausslod/gausslod.h"
-#include "gausslod/sphere_cells.h"
+#include "sphere_cells.h"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "gausslod/gausslod.h"
-#include "gausslod/sphere_cells.h"
+#include "sphere_cells.h"
 
 #include <vcg/space/point3.h>
 

@@ -1,5 +1,5 @@
 // 2.1 Scheme for hierarchically subdividing the Gauss sphere (paper Fig. 2-4).
-#include "gausslod/sphere_cells.h"
+#include "sphere_cells.h"
 
 #include <cmath>
 
