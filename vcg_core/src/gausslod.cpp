@@ -143,6 +143,36 @@ bool prepare(const MeshView &input, const Params &params, Result &res, MeshView 
 	return true;
 }
 
+// A coarser level that came out with more faces than the finer one (2.5 promises monotone face
+// counts) is the finer level's mesh: its partition, with the cells of this level.
+void keepFinerLevel(const MeshView &mesh, int level, std::vector<detail::Partition> &parts,
+                    LevelMesh &finer, LevelMesh &lm)
+{
+	detail::Partition &p = parts[size_t(level)];
+	p = parts[size_t(level) + 1];
+	p.level = level;
+	// (its origins still point to the finer level's parts: no copy of them needed)
+	p.partLabel.clear(), p.partCell.clear(), p.partOrigin.clear();
+	for (CellKey &c : p.cell)
+		c = c == kInvalidCell ? c : parentKey(c);
+	const LevelStats spent = lm.stats; // the time was spent all the same
+	lm = std::move(finer);
+	lm.positions.resize(3 * lm.sourceVertex.size()); // (dropped from `finer`, see buildLevels)
+	for (size_t v = 0; v < lm.sourceVertex.size(); ++v)
+		for (size_t k = 0; k < 3; ++k)
+			lm.positions[3 * v + k] = mesh.positions[3 * size_t(lm.sourceVertex[v]) + k];
+	lm.inputSuperface = p.label;
+	lm.stats.secondsPartition = spent.secondsPartition;
+	lm.stats.secondsBorders = spent.secondsBorders;
+	lm.stats.secondsTriangulation = spent.secondsTriangulation;
+	lm.stats.secondsChecks = spent.secondsChecks;
+	lm.stats.rounds = spent.rounds;
+	lm.stats.level = level;
+	lm.stats.boundDeg = levelBoundDeg(level);
+	lm.stats.fallbacks = 0;
+	lm.stats.reusedFiner = true;
+}
+
 template <class Fn>
 Result guarded(Result &res, Fn fn)
 {
@@ -226,32 +256,8 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			lm.stats.secondsPartition = since(tl) + (level == finest ? setup : 0.0);
 			buildLevelGeometry(topo, params, parts, parts[size_t(level)], lm,
 			                   level < finest ? finer.stats.faces : SIZE_MAX);
-			if (level < finest && lm.stats.faces > finer.stats.faces) {
-				// keep the levels monotone: the finer level's mesh is valid here too
-				Partition &p = parts[size_t(level)];
-				p = parts[size_t(level) + 1];
-				p.level = level;
-				// (its origins still point to the finer level's parts: no copy of them needed)
-				p.partLabel.clear(), p.partCell.clear(), p.partOrigin.clear();
-				for (CellKey &c : p.cell)
-					c = c == kInvalidCell ? c : parentKey(c);
-				LevelStats spent = lm.stats; // the time was spent all the same
-				lm = std::move(finer);
-				lm.positions.resize(3 * lm.sourceVertex.size()); // (dropped from `finer`, below)
-				for (size_t v = 0; v < lm.sourceVertex.size(); ++v)
-					for (size_t k = 0; k < 3; ++k)
-						lm.positions[3 * v + k] = mesh.positions[3 * size_t(lm.sourceVertex[v]) + k];
-				lm.inputSuperface = p.label;
-				lm.stats.secondsPartition = spent.secondsPartition;
-				lm.stats.secondsBorders = spent.secondsBorders;
-				lm.stats.secondsTriangulation = spent.secondsTriangulation;
-				lm.stats.secondsChecks = spent.secondsChecks;
-				lm.stats.rounds = spent.rounds;
-				lm.stats.level = level;
-				lm.stats.boundDeg = levelBoundDeg(level);
-				lm.stats.fallbacks = 0;
-				lm.stats.reusedFiner = true;
-			}
+			if (level < finest && lm.stats.faces > finer.stats.faces)
+				keepFinerLevel(mesh, level, parts, finer, lm);
 			lm.stats.seconds = since(tl) + (level == finest ? setup : 0.0);
 			lm.stats.input = res.input;
 			if (const size_t lost = uncoveredFaces(topo, lm))
