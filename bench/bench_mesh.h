@@ -27,7 +27,10 @@ inline double now()
 template <class MeshT>
 bool load(MeshT &m, const std::string &file, std::string &err)
 {
-	return gausslod::importMesh(m, file, err); // (as the gausslod tool loads it)
+	gausslod::ReadError e;
+	const bool ok = gausslod::importMesh(m, file, e); // (as the gausslod tool loads it)
+	err = e.message;
+	return ok;
 }
 
 /// Flat arrays (positions, triangles), skipping deleted elements.
