@@ -184,6 +184,14 @@ add("obj_mrgb_short.obj", "#MRGB ff102030\n" + obj(SQUARE[:3], [(1, 2, 3)]), "co
     "#MRGB colours for 1 of 3 vertices")
 add("obj_mtllib_dev_zero.obj", "mtllib /dev/zero\n" + obj(SQUARE[:3], [(1, 2, 3)]), "corrupt",
     "is not a regular file")
+add("obj_colour_overflow.obj", "v 0 0 0 1 0 0\nv 1 0 0 300 0 0\nv 0 1 0 0 0 0\nf 1 2 3\n",
+    "corrupt", "line 2: a vertex colour out of range")
+add("off_colour_overflow.off", "COFF\n3 1 0\n0 0 0 0.5 0 0\n1 0 0 9.5 0 0\n0 1 0 0.5 0 0\n"
+    "3 0 1 2\n", "corrupt", "vertex 1: colour component out of range")
+add("off_face_colour_nan.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 0.5 nan 0\n",
+    "corrupt", "face 0: colour component out of range")
+add("obj_line_index_zero.obj", obj(SQUARE[:3], [(1, 2, 3)]) + "l 0 2\n", "corrupt",
+    "line element uses vertex '0'")
 add("ply_index_out_of_range.ply", ply_ascii(SQUARE, [(0, 1, 9)]), "corrupt",
     "face 0 uses vertex index 9, outside 0..3")
 add("ply_negative_index_binary.ply", ply_binary(SQUARE, [(0, -1, 2)]), "corrupt",
@@ -242,7 +250,8 @@ add("off_named.ply", off(TET_V, TET_F), "wrong_format",
     "the file is an OFF file but its name ends in .ply")
 add("stl_named.obj", stl_ascii(SOUP), "wrong_format",
     "the file is an STL file but its name ends in .obj")
-add("ply_named.off", ply_ascii(TET_V, TET_F), "wrong_format", "is a PLY file but its name ends in .off")
+add("ply_named.off", ply_ascii(TET_V, TET_F), "wrong_format",
+    "is a PLY file but its name ends in .off")
 add("mesh.xyz", off(TET_V, TET_F), "wrong_format", "its name ends in .xyz, not a known extension")
 add("no_extension", off(TET_V, TET_F), "wrong_format", "its name has no extension")
 add("UPPER.OFF", off(TET_V, TET_F), "ok", "", 4)

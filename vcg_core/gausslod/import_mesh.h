@@ -8,13 +8,16 @@
 //  - OFF (import_off.h): counts and face indices read with atoi and never range-checked (:210,
 //    :450, :471 reads vert[idx] of polygons), a face line missing at EOF read as tokens[0] (:435),
 //    a huge vertex-per-face count allocated before reading (:457-461), colour-map index unchecked
-//    (:296, :550), a line of blanks read as if it had a token (crash on CGAL's prim.off). A pre-scan
-//    that tokenizes exactly as VCG does validates all of it; blank lines are emptied for VCG.
+//    (:296, :550), a line of blanks read as if it had a token (crash on CGAL's prim.off), float
+//    colours cast to bytes out of range (:317, color4.h:295). A pre-scan that
+//    tokenizes exactly as VCG does validates all of it; blank lines are emptied for VCG.
 //  - OBJ (import_obj.h): vertex lines counted one way (:897) and read another (:290, writes past
 //    m.vert), m.vert[idx] read before the range check (:471-473), '\' continuations joined out of
-//    bounds (:757-761), #MRGB colours indexed past their end (:731), mtllib opening any path
-//    (/dev/zero, a FIFO) (:591). VCG also drops every face that uses vertex 1 (:186, index 0 taken
-//    as invalid): those faces are rebuilt from the pre-scan, which reads every face line.
+//    bounds (:757-761), line elements' indices unchecked (:656), #MRGB colours indexed past
+//    their end (:731), vertex colours cast to bytes out of range (:313), mtllib opening any path
+//    (/dev/zero, a FIFO) (:591), material attributes that leak (:237: dropped after reading).
+//    VCG also drops every face that uses vertex 1 (:186, index 0 taken as invalid): those faces
+//    are rebuilt from the pre-scan, which reads every face line.
 //  - PLY (plylib.cpp, import_ply.h): header lines longer than its 510-byte buffer or an element
 //    line without a count (atoi(NULL), plylib.cpp:1171); list counts copied into fixed arrays
 //    without bound (face v[512], plylib.cpp:1924, skip buffers of 512 bytes :1865); the last index
@@ -100,7 +103,10 @@ inline bool fail(ReadError &e, ReadStatus s, const std::string &msg)
 	e.message = msg;
 	return false;
 }
-inline bool corrupt(ReadError &e, const std::string &msg) { return fail(e, ReadStatus::Corrupt, msg); }
+inline bool corrupt(ReadError &e, const std::string &msg)
+{
+	return fail(e, ReadStatus::Corrupt, msg);
+}
 
 inline std::string num(long long v) { return std::to_string(v); }
 
@@ -235,6 +241,31 @@ inline bool parseNumber(const char *b, const char *e)
 	return end == buf + (e - b);
 }
 
+struct Word {
+	const char *b, *e;
+};
+
+/// A colour word VCG turns into a byte as (unsigned char)(float(atof(word)) * scale): undefined
+/// unless the product lies in (-1, 256) (color4.h:295, import_obj.h:312).
+inline bool colourByteOk(const Word &w, float scale)
+{
+	if (!parseNumber(w.b, w.e))
+		return false;
+	const float x = float(std::strtod(std::string(w.b, w.e).c_str(), nullptr)) * scale;
+	return x > -1.0f && x < 256.0f;
+}
+
+/// VCG's float colours (import_off.h:301, :555): the first word holding a '.' makes all floats.
+inline bool offColoursOk(const std::vector<Word> &w, size_t k, long long n)
+{
+	if ((n != 3 && n != 4) || std::find(w[k].b, w[k].e, '.') == w[k].e)
+		return true;
+	for (size_t i = k; i < k + size_t(n); ++i)
+		if (!colourByteOk(w[i], 255.0f))
+			return false;
+	return true;
+}
+
 /// Lines of a FILE without a heap allocation per line (getline reuses its buffer).
 class LineReader {
 public:
@@ -262,10 +293,6 @@ private:
 	FILE *f_;
 	char *buf_ = nullptr;
 	size_t cap_ = 0, len_ = 0, number_ = 0;
-};
-
-struct Word {
-	const char *b, *e;
 };
 
 // ---- OFF ---------------------------------------------------------------------------------------
@@ -380,6 +407,8 @@ inline bool scanOff(FILE *f, uint64_t size, double vertexBytes, double faceBytes
 			if (nc == 1 && (!parseInt(w[k].b, w[k].e, c) || c < 0 || c >= 148))
 				return corrupt(e, "vertex " + num(i) + ": colour-map index " +
 				                      quote(w[k].b, w[k].e) + " out of range 0..147");
+			if (!offColoursOk(w, k, nc))
+				return corrupt(e, "vertex " + num(i) + ": colour component out of range 0..1");
 			k += size_t(nc);
 		}
 		for (int j = 0; tex && j < 2; ++j)
@@ -410,6 +439,8 @@ inline bool scanOff(FILE *f, uint64_t size, double vertexBytes, double faceBytes
 		    (!parseInt(w[n + 1].b, w[n + 1].e, c) || c < 0 || c >= 148))
 			return corrupt(e, "face " + num(i) + ": colour-map index " +
 			                      quote(w[n + 1].b, w[n + 1].e) + " out of range 0..147");
+		if (w.size() >= size_t(n) + 1 && !offColoursOk(w, size_t(n) + 1, (long long)w.size() - n - 1))
+			return corrupt(e, "face " + num(i) + ": colour component out of range 0..1");
 	}
 	if (nv == 0 && nf == 0)
 		return fail(e, ReadStatus::Empty, "the OFF file holds no vertex and no face");
@@ -568,6 +599,20 @@ inline bool scanObj(FILE *f, const std::string &path, uint64_t size, double vert
 			for (int j = 1; j < 4; ++j)
 				if (!parseNumber(w[j].b, w[j].e))
 					return corrupt(e, at() + quote(w[j].b, w[j].e) + " is not a number");
+			if (w.size() >= 7) { // colours, scaled as VCG does (import_obj.h:309-315)
+				float c[3];
+				for (int j = 0; j < 3; ++j)
+					c[j] = parseNumber(w[4 + j].b, w[4 + j].e)
+					           ? float(std::strtod(std::string(w[4 + j].b, w[4 + j].e).c_str(),
+					                               nullptr))
+					           : 1e9f;
+				const float scale = c[0] <= 1 && c[1] <= 1 && c[2] <= 1 ? 255.0f : 1.0f;
+				bool okc = true;
+				for (size_t j = 4; j < std::min<size_t>(w.size(), 8); ++j)
+					okc = okc && colourByteOk(w[j], scale);
+				if (!okc)
+					return corrupt(e, at() + "a vertex colour out of range");
+			}
 			if (out.vertices > maskV)
 				return corrupt(e, at() + "a vertex statement that does not start its line as "
 				                       "'v x y z'");
@@ -615,6 +660,15 @@ inline bool scanObj(FILE *f, const std::string &path, uint64_t size, double vert
 					continue;
 				out.tri.insert(out.tri.end(), {a, b, c});
 				out.faux.push_back((unsigned char)((j > 0 ? 4 : 0) | (j + 3 < n ? 2 : 0)));
+			}
+		} else if (is("l") && w.size() >= 3) { // VCG takes &m.vert[atoi - 1] of both (:369, :656)
+			for (int j = 1; j < 3; ++j) {
+				long long r;
+				if (!parseInt(w[j].b, std::find(w[j].b, w[j].e, '/'), r) || r < 1 ||
+				    r > out.vertices)
+					return corrupt(e, at() + "line element uses vertex " + quote(w[j].b, w[j].e) +
+					                      " but " + num(out.vertices) +
+					                      " vertices are defined before it");
 			}
 		} else if (is("mtllib") && w.size() > 1) {
 			const std::string name = w.size() == 2 ? std::string(w[1].b, w[1].e)
@@ -1153,6 +1207,9 @@ bool importMeshImpl(MeshT &m, const std::string &path, ReadError &e)
 			return false;
 		using Obj = vcg::tri::io::ImporterOBJ<MeshT>;
 		const int r = Obj::Open(m, path.c_str(), mask);
+		// its material attributes would leak: TriMesh's destructor does not free attributes
+		vcg::tri::Allocator<MeshT>::DeletePerMeshAttribute(m, "materialVector");
+		vcg::tri::Allocator<MeshT>::DeletePerFaceAttribute(m, "materialIndex");
 		if (r != 0 && Obj::ErrorCritical(r))
 			return corrupt(e, std::string("OBJ: ") + Obj::ErrorMsg(r));
 		// VCG 2020.09 drops every face using vertex 1: rebuild the faces from the scan
