@@ -215,6 +215,9 @@ add("ply_tristrips.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty floa
     "property float y\nproperty float z\nelement tristrips 1\n"
     "property list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
     "wrong_format", "tristrips")
+add("ply_two_vertex_elements.ply", ply_ascii(SQUARE, [(0, 1, 5)]).replace(
+    b"element face", b"element vertex 3\nproperty float x\nelement face").replace(
+    b"0 1 0\n3 0", b"0 1 0\n0\n0\n0\n3 0"), "corrupt", "two PLY 'vertex' elements")
 add("ply_bad_number_ascii.ply", ply_ascii(SQUARE, TRIS).replace(b"1.000000 0.000000",
                                                                b"1.0abc 0.000000", 1),
     "corrupt", "unparsable number")

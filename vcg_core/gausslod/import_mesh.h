@@ -706,7 +706,7 @@ inline bool precheckPlyHeader(FILE *f, PlyHeader &h, ReadError &e)
 	char line[512];
 	uint64_t offset = 0;
 	for (int n = 0;; ++n) {
-		if (!std::fgets(line, 400, f))
+		if (!std::fgets(line, 500, f))
 			return corrupt(e, "truncated PLY header (no end_header line)");
 		const size_t len = std::strlen(line);
 		if (n == 0 && std::strncmp(line, "ply", 3) != 0)
@@ -831,7 +831,14 @@ inline bool checkPly(const std::string &path, FILE *f, uint64_t size, double ver
 	double minBytes = 0;
 	long long nv = 0, nf = 0;
 	bool lists = false;
+	int vertexElements = 0, faceElements = 0;
 	for (const vcg::ply::PlyElement &el : pf.elements) {
+		// a second vertex element would leave VCG's index table (import_ply.h:730) shorter than
+		// the m.vn it checks face indices against
+		vertexElements += el.name == "vertex";
+		faceElements += el.name == "face";
+		if (vertexElements > 1 || faceElements > 1)
+			return corrupt(e, "two PLY '" + el.name + "' elements");
 		if (el.name == "tristrips" || el.name == "range_grid")
 			return fail(e, ReadStatus::WrongFormat, "PLY element '" + el.name +
 			                                            "' is not supported (only faces are read)");
