@@ -172,6 +172,10 @@ add("obj_forward_reference.obj", "v 0 0 0\nf 1 2 3\nv 1 0 0\nv 0 1 0\n", "corrup
     "face uses vertex '2' but 1 vertices")
 add("obj_bad_normal_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//5 2//5 3//5\n", "corrupt",
     "face uses normal '5'")
+add("obj_empty_texture_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
+    "f 1/ 2/ 3/\n", "corrupt", "face uses texture ''")
+add("obj_empty_normal_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn 0 0 1\nvn 0 0 1\n"
+    "f 1// 2// 3//\n", "corrupt", "face uses normal ''")
 add("obj_bad_number.obj", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n", "corrupt",
     "'zero' is not a number")
 add("obj_indented_vertex.obj", "v 0 0 0\n  v 1 0 0\nv 0 1 0\nf 1 2 3\n", "corrupt",

@@ -505,13 +505,21 @@ inline bool checkMaterialFile(const std::string &name, ReadError &e)
 /// Joins '\'-continued lines as VCG (import_obj.h:756) does, refusing the joins it gets wrong
 /// (an empty or missing next line: back() of an empty string; a CRLF next line: it pops the wrong
 /// string). `joined` gets the logical line when there was a continuation.
-inline bool maskVertexLine(const LineReader &in)
-{
-	return in.size() > 2 && in.data()[0] == 'v' && (in.data()[1] == ' ' || in.data()[1] == '\t');
-}
+/// Vertex and texture-coordinate lines as VCG's LoadMask counts them, by their first two
+/// characters (import_obj.h:897-914); Open allocates and indexes by these counts.
+struct ObjMaskCount {
+	long long v = 0, vt = 0;
+	void add(const LineReader &in)
+	{
+		if (in.size() > 2 && in.data()[0] == 'v') {
+			v += in.data()[1] == ' ' || in.data()[1] == '\t';
+			vt += in.data()[1] == 't';
+		}
+	}
+};
 
 inline bool joinLine(LineReader &in, std::string &joined, bool &usedJoined, const char *where,
-                     ReadError &e, long long *maskV = nullptr)
+                     ReadError &e, ObjMaskCount *mask = nullptr)
 {
 	size_t n = in.size();
 	if (n && in.data()[n - 1] == '\r')
@@ -528,8 +536,8 @@ inline bool joinLine(LineReader &in, std::string &joined, bool &usedJoined, cons
 		if (in.data()[in.size() - 1] == '\r')
 			return corrupt(e, std::string(where) + " line " + num((long long)first) +
 			                      ": a '\\' continuation with CRLF line ends (VCG joins it wrongly)");
-		if (maskV)
-			*maskV += maskVertexLine(in);
+		if (mask)
+			mask->add(in);
 		joined.pop_back();
 		joined.append(in.data(), in.size());
 	}
@@ -552,14 +560,15 @@ inline bool scanObj(FILE *f, const std::string &path, uint64_t size, double vert
 	std::string joined;
 	std::vector<Word> w;
 	std::vector<int> poly;
-	long long maskV = 0, nvt = 0, nvn = 0, mrgb = 0, statements = 0;
+	ObjMaskCount mask;
+	long long nvt = 0, nvn = 0, mrgb = 0, statements = 0;
 	bool usemtl = false;
 	while (in.next()) {
 		// VCG's LoadMask counts vertex lines by their first two characters (import_obj.h:897)
-		maskV += maskVertexLine(in);
+		mask.add(in);
 		const size_t lineNo = in.number();
 		bool used;
-		if (!joinLine(in, joined, used, "OBJ", e, &maskV))
+		if (!joinLine(in, joined, used, "OBJ", e, &mask))
 			return false;
 		const char *p = used ? joined.data() : in.data();
 		size_t len = used ? joined.size() : in.size();
@@ -613,11 +622,11 @@ inline bool scanObj(FILE *f, const std::string &path, uint64_t size, double vert
 				if (!okc)
 					return corrupt(e, at() + "a vertex colour out of range");
 			}
-			if (out.vertices > maskV)
+			if (out.vertices > mask.v)
 				return corrupt(e, at() + "a vertex statement that does not start its line as "
 				                       "'v x y z'");
 		} else if (is("vt")) {
-			++nvt;
+			nvt += w.size() >= 3; // (VCG stops at a shorter one)
 		} else if (is("vn")) {
 			++nvn;
 		} else if (is("f") || is("q")) {
@@ -637,13 +646,17 @@ inline bool scanObj(FILE *f, const std::string &path, uint64_t size, double vert
 					return corrupt(e, at() + "face uses vertex " + quote(w[j].b, s1) + " but " +
 					                      num(out.vertices) +
 					                      " vertices are defined before it");
-				// texture and normal indices, if given, must name earlier vt / vn lines
+				// texture and normal indices, split as VCG's SplitToken (import_obj.h:822) does,
+				// must name earlier vt / vn lines: an empty one is -1 there, which its
+				// GoodObjIndex turns into one past the end (:190, read at :683 and :695)
 				const char *s2 = s1 == w[j].e ? s1 : std::find(s1 + 1, w[j].e, '/');
 				const long long counts[2] = {nvt, nvn};
 				const Word parts[2] = {{s1 == w[j].e ? s1 : s1 + 1, s2},
 				                       {s2 == w[j].e ? s2 : s2 + 1, w[j].e}};
+				const bool given[2] = {s1 != w[j].e && (s2 == w[j].e || s1 + 1 < s2),
+				                       s2 != w[j].e};
 				for (int c = 0; c < 2; ++c) {
-					if (parts[c].b == parts[c].e)
+					if (!given[c])
 						continue;
 					if (!parseInt(parts[c].b, parts[c].e, r) || r == 0 ||
 					    (r > 0 ? r : -r) > counts[c])
@@ -681,11 +694,16 @@ inline bool scanObj(FILE *f, const std::string &path, uint64_t size, double vert
 	}
 	if (usemtl && path.size() >= 4 && !checkMaterialFile(path.substr(0, path.size() - 4) + ".mtl", e))
 		return false;
-	if (out.vertices != maskV)
-		return corrupt(e, num(maskV) + " lines start with 'v ' but " + num(out.vertices) +
+	if (out.vertices != mask.v)
+		return corrupt(e, num(mask.v) + " lines start with 'v ' but " + num(out.vertices) +
 		                      " vertex statements were found");
-	if (mrgb > 0 && mrgb < maskV) // VCG reads one #MRGB colour per vertex (import_obj.h:731)
-		return corrupt(e, "#MRGB colours for " + num(mrgb) + " of " + num(maskV) + " vertices");
+	// with as many texture as vertex lines VCG reads texCoords[t] of every face corner, t = 0
+	// when the corner gives none (import_obj.h:682): the counts must agree
+	if (nvt != mask.vt && mask.vt == mask.v)
+		return corrupt(e, num(mask.vt) + " lines start with 'vt' but " + num(nvt) +
+		                      " texture coordinates were found");
+	if (mrgb > 0 && mrgb < mask.v) // VCG reads one #MRGB colour per vertex (import_obj.h:731)
+		return corrupt(e, "#MRGB colours for " + num(mrgb) + " of " + num(mask.v) + " vertices");
 	if (statements == 0)
 		return fail(e, ReadStatus::Empty, "no vertex and no face statement");
 	(void)size;
