@@ -924,9 +924,13 @@ inline bool checkPly(const std::string &path, FILE *f, uint64_t size, double ver
 					                   (p.name == "vertex_indices" || p.name == "vertex_index");
 					// VCG copies face lists into int[512] and keeps the count in a byte; other
 					// lists into 32-entry arrays or 512-byte skip buffers with a 1-byte count
-					if (index ? (v < 3 || v > 255) : (v < 0 || v > 32))
-						return corrupt(e, what + " has a list of " + num((long long)v) +
-						                      " entries (" + (index ? "3..255" : "0..32") + ")");
+					// (written so that a NaN or huge count of a float-typed list fails too)
+					if (!(index ? v >= 3 && v <= 255 : v >= 0 && v <= 32) || v != std::floor(v)) {
+						char count[32];
+						std::snprintf(count, sizeof count, "%.6g", v);
+						return corrupt(e, what + " has a list of " + count + " entries (" +
+						                      (index ? "3..255" : "0..32") + ")");
+					}
 					if (!ascii && !index && plyTypeSize(p.tipoindex) != 1)
 						return corrupt(e, what + ": a list count wider than one byte");
 					for (long long j = 0; j < (long long)v; ++j) {
