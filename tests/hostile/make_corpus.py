@@ -222,6 +222,9 @@ add("ply_tristrips.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty floa
 add("ply_two_vertex_elements.ply", ply_ascii(SQUARE, [(0, 1, 5)]).replace(
     b"element face", b"element vertex 3\nproperty float x\nelement face").replace(
     b"0 1 0\n3 0", b"0 1 0\n0\n0\n0\n3 0"), "corrupt", "two PLY 'vertex' elements")
+add("ply_face_without_indices.ply", ply_ascii(TET_V, TET_F).replace(b"vertex_indices",
+                                                                     b"vertex_indic"),
+    "corrupt", "the PLY face element has no vertex_indices list")
 add("ply_bad_number_ascii.ply", ply_ascii(SQUARE, TRIS).replace(b"1.000000 0.000000",
                                                                b"1.0abc 0.000000", 1),
     "corrupt", "unparsable number")

@@ -862,8 +862,10 @@ inline bool checkPly(const std::string &path, FILE *f, uint64_t size, double ver
 			                                            "' is not supported (only faces are read)");
 		const bool face = el.name == "face";
 		double row = 0;
+		bool indexList = false;
 		for (const vcg::ply::PlyProperty &p : el.props) {
 			const bool index = face && (p.name == "vertex_indices" || p.name == "vertex_index");
+			indexList |= index;
 			if (index && !plyFaceListReadable(p))
 				return fail(e, ReadStatus::WrongFormat,
 				            std::string("PLY face list 'list ") +
@@ -877,6 +879,10 @@ inline bool checkPly(const std::string &path, FILE *f, uint64_t size, double ver
 				row += ascii ? 2 : plyTypeSize(p.tipo);
 			}
 		}
+		// without an index list VCG still reads the faces, from uninitialised memory
+		// (import_ply.h:761: pf.Read fills nothing, fa.size and fa.v are left as they were)
+		if (face && el.number > 0 && !indexList)
+			return corrupt(e, "the PLY face element has no vertex_indices list");
 		minBytes += row * double(el.number);
 		if (el.name == "vertex")
 			nv += el.number;
