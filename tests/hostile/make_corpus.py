@@ -225,6 +225,8 @@ add("ply_two_vertex_elements.ply", ply_ascii(SQUARE, [(0, 1, 5)]).replace(
 add("ply_face_without_indices.ply", ply_ascii(TET_V, TET_F).replace(b"vertex_indices",
                                                                      b"vertex_indic"),
     "corrupt", "the PLY face element has no vertex_indices list")
+add("ply_blank_after_comment.ply", b"ply\ncomment x\n\nformat ascii 1.0\nend_header\n",
+    "corrupt", "PLY header line 3 is blank")
 add("ply_bad_number_ascii.ply", ply_ascii(SQUARE, TRIS).replace(b"1.000000 0.000000",
                                                                b"1.0abc 0.000000", 1),
     "corrupt", "unparsable number")

@@ -18,12 +18,13 @@
 //    (/dev/zero, a FIFO) (:591), material attributes that leak (:237: dropped after reading).
 //    VCG also drops every face that uses vertex 1 (:186, index 0 taken as invalid): those faces
 //    are rebuilt from the pre-scan, which reads every face line.
-//  - PLY (plylib.cpp, import_ply.h): header lines longer than its 510-byte buffer or an element
-//    line without a count (atoi(NULL), plylib.cpp:1171); list counts copied into fixed arrays
-//    without bound (face v[512], plylib.cpp:1924, skip buffers of 512 bytes :1865); the last index
-//    of a polygon never checked (import_ply.h:895); tristrips and range grids (leaked lists,
-//    unchecked indices). The header is read with VCG's own PlyFile; the element data is walked once
-//    (lists only) before VCG reads it.
+//  - PLY (plylib.cpp, import_ply.h): header lines longer than its 510-byte buffer, blank ones
+//    (strcmp(NULL), plylib.cpp:1056) or an element line without a count (atoi(NULL), :1171);
+//    list counts copied into fixed arrays without bound (face v[512], plylib.cpp:1924, skip
+//    buffers of 512 bytes :1865); the last index of a polygon never checked (import_ply.h:895);
+//    tristrips and range grids (leaked lists, unchecked indices); a face element without an index
+//    list (faces read from uninitialised memory, import_ply.h:761). The header is read with VCG's
+//    own PlyFile; the element data is walked once before VCG reads it.
 //  - STL (import_stl.h): two FILE handles leaked per binary file (:115, :153), one per truncated
 //    ASCII file (:295), an endless loop on a file without a line break (:270), a lying triangle
 //    count read past EOF (:221). STL is therefore read here (binary: exact size 84 + 50 n; ASCII:
@@ -737,8 +738,8 @@ inline bool precheckPlyHeader(FILE *f, PlyHeader &h, ReadError &e)
 		offset += len;
 		char *save = nullptr;
 		const char *word = strtok_r(line, " \t\r\n", &save);
-		if (!word)
-			continue;
+		if (!word) // (plylib compares a blank line after a comment with strcmp(NULL), :1056)
+			return corrupt(e, "PLY header line " + num(n + 1) + " is blank");
 		if (n == 0 && std::strcmp(word, "ply") != 0)
 			return corrupt(e, "no PLY header (the file does not start with 'ply')");
 		if (std::strcmp(word, "format") == 0) {
