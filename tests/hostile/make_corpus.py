@@ -227,6 +227,11 @@ add("ply_face_without_indices.ply", ply_ascii(TET_V, TET_F).replace(b"vertex_ind
     "corrupt", "the PLY face element has no vertex_indices list")
 add("ply_blank_after_comment.ply", b"ply\ncomment x\n\nformat ascii 1.0\nend_header\n",
     "corrupt", "PLY header line 3 is blank")
+add("ply_long_texture_comment.ply", ply_ascii(TET_V, TET_F).replace(
+    b"format ascii 1.0\n", b"format ascii 1.0\ncomment TextureFile " + b"t" * 300 + b"\n"),
+    "corrupt", "PLY texture file comment too long")
+add("ply_texture_comment_ok.ply", ply_ascii(TET_V, TET_F).replace(
+    b"format ascii 1.0\n", b"format ascii 1.0\ncomment TextureFile <this>.png\n"), "ok", "", 4)
 add("ply_bad_number_ascii.ply", ply_ascii(SQUARE, TRIS).replace(b"1.000000 0.000000",
                                                                b"1.0abc 0.000000", 1),
     "corrupt", "unparsable number")

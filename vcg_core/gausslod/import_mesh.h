@@ -23,7 +23,8 @@
 //    list counts copied into fixed arrays without bound (face v[512], plylib.cpp:1924, skip
 //    buffers of 512 bytes :1865); the last index of a polygon never checked (import_ply.h:895);
 //    tristrips and range grids (leaked lists, unchecked indices); a face element without an index
-//    list (faces read from uninitialised memory, import_ply.h:761). The header is read with VCG's
+//    list (faces read from uninitialised memory, import_ply.h:761); a TextureFile comment copied
+//    into char[255] (import_ply.h:1041). The header is read with VCG's
 //    own PlyFile; the element data is walked once before VCG reads it.
 //  - STL (import_stl.h): two FILE handles leaked per binary file (:115, :153), one per truncated
 //    ASCII file (:295), an endless loop on a file without a line break (:270), a lying triangle
@@ -846,6 +847,31 @@ inline bool checkPly(const std::string &path, FILE *f, uint64_t size, double ver
 	}
 	if (h.format == 0)
 		return corrupt(e, "bad PLY header: no format line");
+	// "comment TextureFile NAME": VCG copies NAME, its "<this>" replaced by the file's name, into
+	// char[255] buffers without bound (import_ply.h:1041, plylib.cpp:3670)
+	const size_t slash = path.find_last_of('/');
+	const size_t base = path.size() - (slash == std::string::npos ? 0 : slash + 1);
+	for (const std::string &c : pf.comments) {
+		if (c.compare(0, 11, "TextureFile") != 0)
+			continue;
+		size_t out = 0;
+		std::string name;
+		for (size_t i = 12; i < c.size(); ++i)
+			if (c[i] > 32 && c[i] < 125)
+				name.push_back(c[i]);
+		for (size_t i = 0; i < name.size(); ++i) {
+			const bool self = name[i] == '<' && name.size() > i + 5 &&
+			                  std::tolower(static_cast<unsigned char>(name[i + 1])) == 't' &&
+			                  std::tolower(static_cast<unsigned char>(name[i + 2])) == 'h' &&
+			                  std::tolower(static_cast<unsigned char>(name[i + 3])) == 'i' &&
+			                  std::tolower(static_cast<unsigned char>(name[i + 4])) == 's' &&
+			                  name[i + 5] == '>';
+			out += self ? base : 1;
+			i += self ? 5 : 0;
+		}
+		if (c.size() < 12 || out >= 200 || base >= 200)
+			return corrupt(e, "PLY texture file comment too long or without a name");
+	}
 	const bool ascii = h.format == 1, big = h.format == 3;
 	double minBytes = 0;
 	long long nv = 0, nf = 0;
