@@ -111,6 +111,13 @@ inline bool corrupt(ReadError &e, const std::string &msg)
 }
 
 inline std::string num(long long v) { return std::to_string(v); }
+/// A value read as a double (any size, NaN included) for a message.
+inline std::string numD(double v)
+{
+	char s[32];
+	std::snprintf(s, sizeof s, "%.6g", v);
+	return s;
+}
 
 /// A word from the file, fit for a one-line message (printable, at most 24 characters).
 inline std::string quote(const char *b, const char *e)
@@ -959,9 +966,7 @@ inline bool checkPly(const std::string &path, FILE *f, uint64_t size, double ver
 					// lists into 32-entry arrays or 512-byte skip buffers with a 1-byte count
 					// (written so that a NaN or huge count of a float-typed list fails too)
 					if (!(index ? v >= 3 && v <= 255 : v >= 0 && v <= 32) || v != std::floor(v)) {
-						char count[32];
-						std::snprintf(count, sizeof count, "%.6g", v);
-						return corrupt(e, what + " has a list of " + count + " entries (" +
+						return corrupt(e, what + " has a list of " + numD(v) + " entries (" +
 						                      (index ? "3..255" : "0..32") + ")");
 					}
 					if (!ascii && !index && plyTypeSize(p.tipoindex) != 1)
@@ -975,7 +980,7 @@ inline bool checkPly(const std::string &path, FILE *f, uint64_t size, double ver
 							return corrupt(e, what + ": unparsable number");
 						if (index && (x < 0 || x >= double(verticesSoFar)))
 							return corrupt(e, "face " + num(i) + " uses vertex index " +
-							                      num((long long)x) + ", outside 0.." +
+							                      numD(x) + ", outside 0.." +
 							                      num(verticesSoFar - 1));
 					}
 				}
