@@ -176,6 +176,9 @@ add("obj_empty_texture_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nv
     "f 1/ 2/ 3/\n", "corrupt", "face uses texture ''")
 add("obj_empty_normal_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn 0 0 1\nvn 0 0 1\n"
     "f 1// 2// 3//\n", "corrupt", "face uses normal ''")
+add("obj_normal_lines_miscounted.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvnx 0 0 1\n"
+    "vnx 0 0 1\nf 1 2 3\n", "corrupt", "3 lines start with 'vn' but 1 normals were found")
+add("obj_normals_unused.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1 2 3\n", "ok", "", 1)
 add("obj_bad_number.obj", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n", "corrupt",
     "'zero' is not a number")
 add("obj_indented_vertex.obj", "v 0 0 0\n  v 1 0 0\nv 0 1 0\nf 1 2 3\n", "corrupt",

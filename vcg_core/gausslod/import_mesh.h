@@ -517,12 +517,13 @@ inline bool checkMaterialFile(const std::string &name, ReadError &e)
 /// Vertex and texture-coordinate lines as VCG's LoadMask counts them, by their first two
 /// characters (import_obj.h:897-914); Open allocates and indexes by these counts.
 struct ObjMaskCount {
-	long long v = 0, vt = 0;
+	long long v = 0, vt = 0, vn = 0;
 	void add(const LineReader &in)
 	{
 		if (in.size() > 2 && in.data()[0] == 'v') {
 			v += in.data()[1] == ' ' || in.data()[1] == '\t';
 			vt += in.data()[1] == 't';
+			vn += in.data()[1] == 'n';
 		}
 	}
 };
@@ -637,7 +638,7 @@ inline bool scanObj(FILE *f, const std::string &path, uint64_t size, double vert
 		} else if (is("vt")) {
 			nvt += w.size() >= 3; // (VCG stops at a shorter one)
 		} else if (is("vn")) {
-			++nvn;
+			nvn += w.size() == 4; // (VCG stops at another)
 		} else if (is("f") || is("q")) {
 			++statements;
 			const bool q = is("q");
@@ -711,6 +712,11 @@ inline bool scanObj(FILE *f, const std::string &path, uint64_t size, double vert
 	if (nvt != mask.vt && mask.vt == mask.v)
 		return corrupt(e, num(mask.vt) + " lines start with 'vt' but " + num(nvt) +
 		                      " texture coordinates were found");
+	// with as many normal as vertex lines VCG reads normals[n] of every corner, n its vertex
+	// number when it gives none (:834, :695), GoodObjIndex letting one past the end through
+	if (nvn != mask.vn && mask.vn == mask.v)
+		return corrupt(e, num(mask.vn) + " lines start with 'vn' but " + num(nvn) +
+		                      " normals were found");
 	if (mrgb > 0 && mrgb < mask.v) // VCG reads one #MRGB colour per vertex (import_obj.h:731)
 		return corrupt(e, "#MRGB colours for " + num(mrgb) + " of " + num(mask.v) + " vertices");
 	if (statements == 0)
