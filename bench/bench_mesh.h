@@ -1,11 +1,11 @@
 // Mesh types and small helpers shared by the bench programs (VCG, header-only).
 #pragma once
 
-#include "gausslod/io_mesh.h"
+#include "gausslod_io/io_mesh.h"
 
 #include <vcg/complex/complex.h>
 #include <wrap/io_trimesh/export_ply.h>
-#include "gausslod/import_mesh.h"
+#include "gausslod_io/import_mesh.h"
 
 #include <chrono>
 #include <cstdint>
@@ -27,7 +27,10 @@ inline double now()
 template <class MeshT>
 bool load(MeshT &m, const std::string &file, std::string &err)
 {
-	return gausslod::importMesh(m, file, err); // (as the gausslod tool loads it)
+	gausslod::ReadError e;
+	const bool ok = gausslod::importMesh(m, file, e); // (as the gausslod tool loads it)
+	err = e.message;
+	return ok;
 }
 
 /// Flat arrays (positions, triangles), skipping deleted elements.

@@ -52,6 +52,19 @@ case "${1:-}" in
     fi
     grep -E '^(Done|stat::number_of_executed_units|stat::new_units_added)' build-fuzz/fuzz.log || true
     echo "fuzz: passed (no crash, no invariant broken)"
+    echo "== libFuzzer on the file readers (${GAUSSLOD_FUZZ_READERS_SECONDS:-30} s; GAUSSLOD_FUZZ_READERS_SECONDS to change)"
+    reader_regressions=(tests/fuzz/reader_regressions/*)
+    [ -e "${reader_regressions[0]}" ] && build-fuzz/tests/fuzz/fuzz_readers "${reader_regressions[@]}"
+    mkdir -p build-fuzz/reader_corpus
+    if ! build-fuzz/tests/fuzz/fuzz_readers -max_total_time="${GAUSSLOD_FUZZ_READERS_SECONDS:-30}" \
+      -timeout=20 -rss_limit_mb=4096 -artifact_prefix=build-fuzz/readers- -print_final_stats=1 \
+      build-fuzz/reader_corpus tests/fuzz/reader_seeds >build-fuzz/fuzz_readers.log 2>&1; then
+      tail -n 60 build-fuzz/fuzz_readers.log
+      echo "fuzz: FAILED; the crash input is in build-fuzz/ (readers-crash-*): fix, then add it to tests/fuzz/reader_regressions/"
+      exit 1
+    fi
+    grep -E '^(Done|stat::number_of_executed_units|stat::new_units_added)' build-fuzz/fuzz_readers.log || true
+    echo "fuzz: readers passed (no crash, no leak, no invariant broken)"
     # reached only if every stage passed (set -e): CTest suite, sanitizer suite, fuzzing
     echo "suites: 3 passed, 0 failed"
     ;;

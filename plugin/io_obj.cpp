@@ -2,7 +2,7 @@
 
 #include "io_obj.h"
 
-#include <gausslod/obj_import.h>
+#include <gausslod_io/obj_import.h>
 
 GAUSSLOD_FIX_VCG_OBJ_INDICES(CMeshO)
 

@@ -1,7 +1,7 @@
 // Wavefront OBJ import for Debian's MeshLab 2020.09, whose own (io_base's) aborts on any OBJ file.
 //
 // The same VCG importer io_base uses, with its index defect fixed and its input checked first
-// (vcg_core/gausslod/obj_import.h), so files open as MeshLab's Windows build opens them: polygons
+// (gausslod_io/obj_import.h), so files open as MeshLab's Windows build opens them: polygons
 // triangulated, texture coordinates, materials (face colours, texture names), normals. Export
 // stays io_base's, which works. MeshLab gives an extension to the first plugin in its plugins
 // folder, by file name, that claims it; this plugin's file name sorts before libio_base.so.

@@ -5,9 +5,9 @@
 // Writes OUTDIR/<name>_LOD<i>.ply per level and prints a per-level table (or JSON lines).
 #include "cli.h"
 
-#include "gausslod/import_mesh.h"
-#include "gausslod/io_mesh.h"
-#include "gausslod/level_ply.h"
+#include "gausslod_io/import_mesh.h"
+#include "gausslod_io/io_mesh.h"
+#include "gausslod_io/level_ply.h"
 #include "gausslod/vcg_adapter.h"
 
 #include <cctype>

@@ -2,7 +2,7 @@
 //   render_levels OUT.ppm WIDTH YAW_DEG PITCH_DEG MESH.ply [MESH.ply ...]
 // Renders each mesh side by side (flat shading, per-face colour when present, dark superface
 // borders), from the same camera framing the first mesh. Convert with imagemagick for PNG.
-#include "gausslod/io_mesh.h"
+#include "gausslod_io/io_mesh.h"
 
 #include <vcg/complex/complex.h>
 #include <wrap/io_trimesh/import.h>

@@ -4,8 +4,8 @@
 // instead made that copy the command-line tool's peak memory (about 50 MB for a 900k-face level).
 #pragma once
 
-#include "gausslod.h"
-#include "vcg_adapter.h"
+#include "gausslod/gausslod.h"
+#include "gausslod/vcg_adapter.h"
 
 #include <cerrno>
 #include <cstdint>
