@@ -32,12 +32,28 @@
 
 namespace gausslod {
 
-/// Input mesh: positions xyz (3 per vertex) and triangles (3 vertex indices per face).
+/// Input mesh: positions xyz (3 per vertex) and triangles (3 vertex indices per face), and the
+/// optional attribute information that keeps a level's attributes exact (docs/ALGORITHM.md,
+/// "Beyond the paper"): delimiters that no superface crosses at any level, and the input corner
+/// each output corner takes its attributes from.
 struct MeshView {
 	const double *positions = nullptr;
 	size_t vertexCount = 0;
 	const int32_t *triangles = nullptr;
 	size_t faceCount = 0;
+	/// Optional, one per face: faces with different keys are never in one superface (material,
+	/// texture, face colour, selection). An edge between them is a border at every level.
+	const uint32_t *faceKey = nullptr;
+	/// Optional, one per face corner (3*f+k): an edge whose two faces have different keys at
+	/// either end vertex is never crossed by a superface (a UV seam, a colour or normal that
+	/// differs between the welded copies of a vertex).
+	const uint32_t *cornerKey = nullptr;
+	/// Optional, two per face corner (u, v): the texture coordinates of the corner. A superface
+	/// whose re-triangulation interpolates a removed vertex's coordinates farther than
+	/// Params::maxTexError from its own is refused like a normal-deviation failure.
+	const float *cornerUV = nullptr;
+	/// Fill LevelMesh::sourceCorner and sourceFace (what a caller needs to carry attributes).
+	bool wantSources = false;
 };
 
 /// The engine's parameters. Their names are those of the MeshLab filter, its .mlx scripts and
@@ -190,6 +206,12 @@ struct LevelMesh {
 	                                   ///< border; clear = internal to its superface (faux edge)
 	std::vector<int32_t> inputSuperface; ///< superface id of each input face (the faces that
 	                                     ///< superface's output triangles replace)
+	/// With MeshView::wantSources: per output corner (3 per face), an input corner 3*f+k of the
+	/// face's superface at the same (welded) vertex: its attributes are the output corner's.
+	std::vector<int32_t> sourceCorner;
+	/// With MeshView::wantSources: per output face, an input face of its superface (with keys,
+	/// every face of a superface has the same faceKey).
+	std::vector<int32_t> sourceFace;
 	LevelStats stats;
 };
 

@@ -9,13 +9,13 @@ namespace {
 
 bool isBorder(const Topology &t, const Partition &p, size_t f, int32_t h)
 {
-	const int32_t tw = t.twin[size_t(h)];
+	const int32_t tw = t.joinTwin(size_t(h));
 	return !t.faceDropped[f] && (tw < 0 || p.label[f] != p.label[size_t(heFace(tw))]);
 }
 
 // The rings of superface s: from a border half-edge, the next one starts at its end vertex and is
 // found by turning around that vertex inside the superface (works at pinched vertices too).
-bool traceSuperface(const Topology &t, const SuperfaceFaces &faces, int32_t s,
+bool traceSuperface(const Topology &t, const Partition &p, const SuperfaceFaces &faces, int32_t s,
                     std::vector<uint8_t> &border, std::vector<int32_t> &ringHE,
                     std::vector<int32_t> &ringStart)
 {
@@ -23,6 +23,12 @@ bool traceSuperface(const Topology &t, const SuperfaceFaces &faces, int32_t s,
 		const int32_t f = faces.face[size_t(i)];
 		for (int k = 0; k < 3; ++k) {
 			const int32_t h0 = 3 * f + k;
+			// a delimiter inside the superface (a seam that ends inside it) cannot be re-triangulated
+			// around: the superface is split like one that folds
+			const int32_t tw = t.twin[size_t(h0)];
+			if (!t.delimiter.empty() && t.delimiter[size_t(h0)] && tw >= 0 &&
+			    p.label[size_t(heFace(tw))] == s)
+				return false;
 			if (border[size_t(h0)] != 1) // (not a border, or visited)
 				continue;
 			ringStart.push_back(int32_t(ringHE.size()));
@@ -132,15 +138,15 @@ void updateBorders(const Topology &t, const Partition &p, const FallbackState &f
 
 // Per chunk (a superface's walk only marks its own half-edges visited, and reads only its own),
 // then concatenated in superface order.
-void traceRings(const Topology &t, const SuperfaceFaces &faces, const std::vector<uint8_t> &dirty,
-                Chunks &chunks, Borders &b, Rings &rings)
+void traceRings(const Topology &t, const Partition &p, const SuperfaceFaces &faces,
+                const std::vector<uint8_t> &dirty, Chunks &chunks, Borders &b, Rings &rings)
 {
 	rings.broken.assign(dirty.size(), 0);
 	chunks.forEach([&](size_t c, Scratch &) {
 		ChunkOut &o = chunks.out[c];
 		for (int32_t s = chunks.start[c]; s < chunks.start[c + 1]; ++s) {
 			const size_t ringsBefore = o.ringStart.size(), heBefore = o.ringHE.size();
-			if (dirty[size_t(s)] && !traceSuperface(t, faces, s, b.border, o.ringHE, o.ringStart)) {
+			if (dirty[size_t(s)] && !traceSuperface(t, p, faces, s, b.border, o.ringHE, o.ringStart)) {
 				for (size_t i = heBefore; i < o.ringHE.size(); ++i)
 					b.border[size_t(o.ringHE[i])] &= uint8_t(~Borders::kVisited);
 				o.ringStart.resize(ringsBefore), o.ringHE.resize(heBefore);

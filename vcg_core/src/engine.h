@@ -255,6 +255,8 @@ struct Topology {
 	const double *P = nullptr;  ///< xyz per vertex (the caller's array)
 	const int32_t *T = nullptr; ///< 3 per face (the caller's array)
 	double diagonal = 0;
+	const float *UV = nullptr; ///< 2 per face corner (MeshView::cornerUV), optional
+	bool wantSources = false;  ///< MeshView::wantSources
 
 	std::vector<Vec3> faceNormal;  ///< unit normal (zero for invalid faces)
 	std::vector<double> faceArea;  ///< area
@@ -265,6 +267,10 @@ struct Topology {
 	/// Opposite half-edge across a 2-manifold, consistently oriented edge between two valid
 	/// faces; -1 otherwise (mesh boundary, non-manifold, inconsistent: always a border).
 	std::vector<int32_t> twin;
+	/// Per half-edge, only when the input has keys (MeshView::faceKey, cornerKey): 1 = a
+	/// delimiter, never crossed by a superface (it still has its twin: its vertices are no
+	/// non-manifold vertices and move along it like along any border).
+	std::vector<uint8_t> delimiter;
 	/// Vertices that are never removed or moved: on non-manifold or inconsistent edges, on invalid
 	/// faces, or with more than one fan of faces (non-manifold vertex).
 	std::vector<uint8_t> vertexLocked;
@@ -273,6 +279,11 @@ struct Topology {
 	FaceGrid grid;                        ///< the valid faces, for nearest-face queries
 
 	Vec3 pos(int32_t v) const { return Vec3(P[3 * v], P[3 * v + 1], P[3 * v + 2]); }
+	/// The twin a superface may grow across: -1 on a delimiter.
+	int32_t joinTwin(size_t h) const
+	{
+		return delimiter.empty() || !delimiter[h] ? twin[h] : -1;
+	}
 	int32_t heFrom(int32_t h) const { return T[h]; }
 	int32_t heTo(int32_t h) const { return T[heNext(h)]; }
 };

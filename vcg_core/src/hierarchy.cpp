@@ -22,7 +22,7 @@ void superfaceAdjacency(const Topology &t, const Partition &p, std::vector<int32
 	const size_t n = p.count();
 	auto forCrossings = [&](auto fn) { // both directions of every adjacency
 		for (size_t h = 0; h < t.twin.size(); ++h) {
-			const int32_t tw = t.twin[h];
+			const int32_t tw = t.joinTwin(h);
 			if (tw < int32_t(h))
 				continue; // boundary (-1) or seen from the other side
 			const int32_t a = p.label[h / 3], b = p.label[size_t(heFace(tw))];
@@ -265,7 +265,7 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 	const double cos2Limit = std::cos(2 * limit);
 	std::vector<Pair> pairs;
 	for (size_t h = 0; h < t.twin.size(); ++h) {
-		const int32_t tw = t.twin[h];
+		const int32_t tw = t.joinTwin(h);
 		if (tw < int32_t(h))
 			continue; // boundary (-1) or seen from the other side
 		const int32_t s = p.label[h / 3], w = p.label[size_t(heFace(tw))];

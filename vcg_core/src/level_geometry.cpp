@@ -5,6 +5,7 @@
 #include "level_passes.h"
 
 #include <chrono>
+#include <stdexcept>
 
 namespace gausslod {
 namespace detail {
@@ -43,6 +44,36 @@ void Chunks::make(const SuperfaceFaces &faces, size_t superfaces, size_t nF)
 }
 
 namespace {
+
+// Per output corner (triangles still on input vertex numbers) an input corner at the same vertex
+// in a face of the same superface, the lowest such face; per output face the source face of its
+// first corner. Superfaces never cross a delimiter, so those corners carry the attributes of the
+// output corner's side of every seam.
+void findSources(const Topology &t, const Partition &p, const LevelTriangles &lt, LevelMesh &out)
+{
+	const size_t nT = lt.triSf.size();
+	out.sourceCorner.resize(3 * nT);
+	out.sourceFace.resize(nT);
+	for (size_t f = 0; f < nT; ++f) {
+		const int32_t sf = lt.triSf[f];
+		for (size_t k = 0; k < 3; ++k) {
+			const int32_t v = lt.tris[3 * f + k];
+			int32_t corner = -1;
+			for (int32_t q = t.vfStart[size_t(v)]; q < t.vfStart[size_t(v) + 1] && corner < 0; ++q) {
+				const int32_t g = t.vfFace[size_t(q)];
+				if (p.label[size_t(g)] != sf)
+					continue;
+				for (int32_t c = 3 * g; c < 3 * g + 3; ++c)
+					if (t.T[c] == v)
+						corner = c;
+			}
+			if (corner < 0) // (cannot happen: output vertices are vertices of their superface)
+				throw std::logic_error("an output corner has no input corner in its superface");
+			out.sourceCorner[3 * f + k] = corner;
+		}
+		out.sourceFace[f] = heFace(out.sourceCorner[3 * f]);
+	}
+}
 
 class Stopwatch {
 public:
@@ -185,7 +216,7 @@ void LevelRounds::buildRound(bool patch)
 	}
 	markDirty(patch);
 	chunks_.make(faces_, p_.count(), t_.nF);
-	traceRings(t_, faces_, dirty_, chunks_, borders_, rings_);
+	traceRings(t_, p_, faces_, dirty_, chunks_, borders_, rings_);
 	straightenBorders(ChainInput{t_, p_, limits_, fb_.tolStep, rings_, dirty_, patch}, chunks_,
 	                  borders_);
 	out_.stats.secondsBorders += clock_.lap();
@@ -358,6 +389,8 @@ void LevelRounds::finish(size_t fallbacks)
 		for (size_t k = 0; k < 3; ++k)
 			out_.positions[3 * o + k] = t_.P[3 * v + k];
 	}
+	if (t_.wantSources)
+		findSources(t_, p_, tri_, out_); // (on input vertex numbers)
 	for (int32_t &v : tri_.tris)
 		v = remap[size_t(v)];
 	release(remap);

@@ -194,8 +194,9 @@ void findBorders(const Topology &t, const Partition &p, const FallbackState &fb,
 /// whose degree or junction status changed (b.changed, b.changedList).
 void updateBorders(const Topology &t, const Partition &p, const FallbackState &fb, Borders &b);
 /// Traces the rings of the `dirty` superfaces (per chunk, concatenated in superface order).
-void traceRings(const Topology &t, const SuperfaceFaces &faces, const std::vector<uint8_t> &dirty,
-                Chunks &chunks, Borders &b, Rings &rings);
+/// A superface with a delimiter between two of its own faces gets rings.broken (split).
+void traceRings(const Topology &t, const Partition &p, const SuperfaceFaces &faces,
+                const std::vector<uint8_t> &dirty, Chunks &chunks, Borders &b, Rings &rings);
 
 // ---- 2.3 straightening and vicinity merging (straighten_merge.cpp)
 

@@ -31,7 +31,7 @@ void finestPartition(const Topology &t, int level, Partition &out)
 			const int32_t f = stack.back();
 			stack.pop_back();
 			for (int k = 0; k < 3; ++k) {
-				const int32_t tw = t.twin[size_t(3 * f + k)];
+				const int32_t tw = t.joinTwin(size_t(3 * f + k));
 				if (tw < 0)
 					continue;
 				const int32_t g = heFace(tw);

@@ -358,6 +358,27 @@ void buildFaceGrid(Topology &t)
 	}
 }
 
+// Delimiters (MeshView::faceKey, cornerKey): twin edges whose faces differ in key, or in the
+// corner key at either end vertex. Nothing is stored without keys.
+static void markDelimiters(const MeshView &mesh, Topology &t)
+{
+	t.delimiter.clear();
+	if (!mesh.faceKey && !mesh.cornerKey)
+		return;
+	t.delimiter.assign(3 * t.nF, 0);
+	for (size_t h = 0; h < t.twin.size(); ++h) {
+		const int32_t tw = t.twin[h];
+		if (tw < 0)
+			continue;
+		bool cut = mesh.faceKey && mesh.faceKey[h / 3] != mesh.faceKey[size_t(heFace(tw))];
+		// (h runs a -> b, its twin b -> a: corner h and the twin's next are at a)
+		if (mesh.cornerKey)
+			cut = cut || mesh.cornerKey[h] != mesh.cornerKey[size_t(heNext(tw))] ||
+			      mesh.cornerKey[size_t(heNext(int32_t(h)))] != mesh.cornerKey[size_t(tw)];
+		t.delimiter[h] = cut;
+	}
+}
+
 void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &t, size_t threads,
                    bool withGrid)
 {
@@ -366,9 +387,12 @@ void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &t, si
 	t.P = mesh.positions;
 	t.T = mesh.triangles;
 	t.diagonal = bboxDiagonal(mesh);
+	t.UV = mesh.cornerUV;
+	t.wantSources = mesh.wantSources;
 	dropNonTriangles(t, threads);
 	computeFaces(t, threads);
 	buildTwins(t, threads);
+	markDelimiters(mesh, t);
 	lockNonManifoldVertices(t, threads);
 	classifyVertices(t, featureAngleDeg, threads);
 	if (withGrid)

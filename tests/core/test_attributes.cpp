@@ -1,0 +1,185 @@
+// Attributes (docs/ALGORITHM.md, "Beyond the paper"): superfaces never cross a delimiter (face
+// keys, corner keys) at any level, and every output corner names an input corner of its
+// superface at the same vertex, from which callers copy the attributes.
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+using namespace gausslod;
+using namespace testmesh;
+
+namespace {
+
+MeshView withKeys(const FlatMesh &m, const std::vector<uint32_t> *faceKey,
+                  const std::vector<uint32_t> *cornerKey)
+{
+	MeshView v = m.view();
+	v.faceKey = faceKey ? faceKey->data() : nullptr;
+	v.cornerKey = cornerKey ? cornerKey->data() : nullptr;
+	v.wantSources = true;
+	return v;
+}
+
+// Every superface holds faces of one key; every output corner's source is a corner of its
+// superface at the output vertex (the welded vertex), and its face is the superface's too.
+void expectSourcesAndKeys(const FlatMesh &m, const Result &r, const std::vector<uint32_t> &key)
+{
+	ASSERT_TRUE(r.ok) << r.error;
+	for (const LevelMesh &lm : r.levels) {
+		SCOPED_TRACE("level " + std::to_string(lm.stats.level));
+		std::vector<int64_t> sfKey(lm.stats.superfaces, -1);
+		size_t mixed = 0;
+		for (size_t f = 0; f < lm.inputSuperface.size(); ++f) {
+			int64_t &k = sfKey[size_t(lm.inputSuperface[f])];
+			mixed += k >= 0 && k != int64_t(key[f]);
+			k = key[f];
+		}
+		EXPECT_EQ(mixed, 0u) << "a superface holds faces of two keys";
+		ASSERT_EQ(lm.sourceCorner.size(), lm.triangles.size());
+		ASSERT_EQ(lm.sourceFace.size(), lm.triangles.size() / 3);
+		size_t bad = 0;
+		for (size_t c = 0; c < lm.triangles.size(); ++c) {
+			const int32_t src = lm.sourceCorner[c], sf = lm.superface[c / 3];
+			const double *a = &lm.positions[3 * size_t(lm.triangles[c])];
+			const double *b = &m.positions[3 * size_t(m.triangles[size_t(src)])];
+			bad += a[0] != b[0] || a[1] != b[1] || a[2] != b[2] ||
+			       lm.inputSuperface[size_t(src / 3)] != sf;
+		}
+		EXPECT_EQ(bad, 0u);
+		for (size_t f = 0; f < lm.sourceFace.size(); ++f)
+			EXPECT_EQ(lm.inputSuperface[size_t(lm.sourceFace[f])], lm.superface[f]);
+	}
+}
+
+// An output triangle that crosses the segment x = 0, y in [y0, y1] (strictly inside).
+size_t trianglesAcross(const LevelMesh &lm, double y0, double y1)
+{
+	size_t n = 0;
+	for (size_t f = 0; f < lm.triangles.size() / 3; ++f) {
+		bool across = false;
+		for (size_t k = 0; k < 3; ++k) {
+			const double *a = &lm.positions[3 * size_t(lm.triangles[3 * f + k])];
+			const double *b = &lm.positions[3 * size_t(lm.triangles[3 * f + (k + 1) % 3])];
+			if ((a[0] < -1e-12 && b[0] > 1e-12) || (a[0] > 1e-12 && b[0] < -1e-12)) {
+				const double y = a[1] + (b[1] - a[1]) * (0 - a[0]) / (b[0] - a[0]);
+				across |= y > y0 + 1e-12 && y < y1 - 1e-12;
+			}
+		}
+		n += across;
+	}
+	return n;
+}
+
+// A flat grid over [-1,1] x [0,1] (n x n/2 cells).
+FlatMesh flatGrid(int n)
+{
+	FlatMesh m = gridWithHole(n, 0, 0);
+	for (size_t v = 0; v < m.positions.size() / 3; ++v)
+		m.positions[3 * v] = 2 * m.positions[3 * v] - 1;
+	return m;
+}
+
+double centroidX(const FlatMesh &m, size_t f)
+{
+	double x = 0;
+	for (size_t k = 0; k < 3; ++k)
+		x += m.positions[3 * size_t(m.triangles[3 * f + k])];
+	return x / 3;
+}
+
+} // namespace
+
+TEST(Attributes, no_keys_and_equal_keys_give_the_levels_without_attributes)
+{
+	const FlatMesh m = loadOff("fandisk.off");
+	const Result plain = buildLevels(m.view(), Params());
+	const std::vector<uint32_t> same(m.triangles.size(), 7u);
+	const Result keyed = buildLevels(withKeys(m, &same, &same), Params());
+	ASSERT_TRUE(plain.ok && keyed.ok);
+	ASSERT_EQ(plain.levels.size(), keyed.levels.size());
+	for (size_t i = 0; i < plain.levels.size(); ++i) {
+		EXPECT_EQ(plain.levels[i].triangles, keyed.levels[i].triangles);
+		EXPECT_EQ(plain.levels[i].positions, keyed.levels[i].positions);
+		EXPECT_TRUE(plain.levels[i].sourceCorner.empty()); // (only when asked for)
+	}
+	expectSourcesAndKeys(m, keyed, same);
+}
+
+TEST(Attributes, faces_of_different_keys_never_share_a_superface_at_any_level)
+{
+	for (const char *name : {"fandisk.off", "cow.off"}) {
+		SCOPED_TRACE(name);
+		const FlatMesh m = loadOff(name);
+		// keys cutting across flat regions: slabs of the bounding box
+		std::vector<uint32_t> key(m.triangles.size() / 3);
+		double lo = HUGE_VAL, hi = -HUGE_VAL;
+		for (size_t f = 0; f < key.size(); ++f)
+			lo = std::min(lo, centroidX(m, f)), hi = std::max(hi, centroidX(m, f));
+		for (size_t f = 0; f < key.size(); ++f)
+			key[f] = uint32_t(3.0 * (centroidX(m, f) - lo) / (hi - lo + 1e-9));
+		const Result r = buildLevels(withKeys(m, &key, nullptr), Params());
+		expectSourcesAndKeys(m, r, key);
+		EXPECT_LT(r.levels.back().stats.faces, m.triangles.size() / 3 / 2); // still simplified
+	}
+}
+
+TEST(Attributes, a_seam_of_corner_keys_is_a_border_and_stays_straight)
+{
+	const FlatMesh m = flatGrid(16);
+	// per-corner key: the side of x = 0 of the corner's face (a UV seam along x = 0)
+	std::vector<uint32_t> corner(m.triangles.size());
+	for (size_t c = 0; c < corner.size(); ++c)
+		corner[c] = centroidX(m, c / 3) < 0 ? 1u : 2u;
+	const Result r = buildLevels(withKeys(m, nullptr, &corner), Params());
+	expectSourcesAndKeys(m, r, std::vector<uint32_t>(m.triangles.size() / 3, 0u));
+	for (const LevelMesh &lm : r.levels) {
+		EXPECT_EQ(trianglesAcross(lm, 0.0, 1.0), 0u);
+		for (size_t c = 0; c < lm.triangles.size(); ++c) // each corner is on its face's side
+			EXPECT_EQ(corner[size_t(lm.sourceCorner[c])], corner[3 * size_t(lm.sourceFace[c / 3])]);
+		EXPECT_LE(lm.stats.faces, 4u); // two rectangles
+	}
+	const Result plain = buildLevels(m.view(), Params());
+	ASSERT_TRUE(plain.ok);
+	EXPECT_GT(trianglesAcross(plain.levels.back(), 0.0, 1.0), 0u); // (the test can fail)
+}
+
+TEST(Attributes, a_seam_that_ends_inside_a_superface_is_kept)
+{
+	const FlatMesh m = flatGrid(16);
+	// a slit: x = 0 for y < 0.75 only; corners at its upper end vertex share one key
+	std::vector<uint32_t> corner(m.triangles.size(), 0u);
+	for (size_t c = 0; c < corner.size(); ++c) {
+		const double *p = &m.positions[3 * size_t(m.triangles[c])];
+		if (p[0] == 0 && p[1] < 0.75)
+			corner[c] = centroidX(m, c / 3) < 0 ? 1u : 2u;
+	}
+	const Result r = buildLevels(withKeys(m, nullptr, &corner), Params());
+	ASSERT_TRUE(r.ok) << r.error;
+	for (const LevelMesh &lm : r.levels) {
+		EXPECT_EQ(trianglesAcross(lm, 0.0, 0.75), 0u);
+		for (size_t c = 0; c < lm.triangles.size(); ++c) {
+			const double *p = &m.positions[3 * size_t(m.triangles[size_t(lm.sourceCorner[c])])];
+			if (p[0] == 0 && p[1] < 0.75 && p[1] > 0) // a slit vertex: the face's side
+				EXPECT_EQ(corner[size_t(lm.sourceCorner[c])],
+				          centroidX(m, size_t(lm.sourceFace[c / 3])) < 0 ? 1u : 2u);
+		}
+	}
+	const Result plain = buildLevels(m.view(), Params());
+	ASSERT_TRUE(plain.ok);
+	EXPECT_GT(trianglesAcross(plain.levels.back(), 0.0, 0.75), 0u); // (the test can fail)
+}
+
+TEST(Attributes, sources_name_the_original_corner_of_a_welded_soup)
+{
+	// a soup: every corner its own vertex, welded by the engine
+	const FlatMesh g = loadOff("fandisk.off");
+	FlatMesh s;
+	for (const int32_t v : g.triangles) {
+		s.triangles.push_back(int32_t(s.positions.size() / 3));
+		for (int k = 0; k < 3; ++k)
+			s.positions.push_back(g.positions[3 * size_t(v) + size_t(k)]);
+	}
+	const std::vector<uint32_t> key(s.triangles.size() / 3, 0u);
+	const Result r = buildLevels(withKeys(s, &key, nullptr), Params());
+	expectSourcesAndKeys(s, r, key);
+}
