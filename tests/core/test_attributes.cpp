@@ -183,3 +183,116 @@ TEST(Attributes, sources_name_the_original_corner_of_a_welded_soup)
 	const Result r = buildLevels(withKeys(s, &key, nullptr), Params());
 	expectSourcesAndKeys(s, r, key);
 }
+
+namespace {
+
+// The texture coordinates level lm interpolates at (x, y) (a flat level, z = 0): barycentric in
+// the output triangle holding the point, with the coordinates of each corner's source corner.
+bool levelUV(const LevelMesh &lm, const std::vector<float> &uv, double x, double y, double out[2])
+{
+	for (size_t f = 0; f < lm.triangles.size() / 3; ++f) {
+		const double *a = &lm.positions[3 * size_t(lm.triangles[3 * f])];
+		const double *b = &lm.positions[3 * size_t(lm.triangles[3 * f + 1])];
+		const double *c = &lm.positions[3 * size_t(lm.triangles[3 * f + 2])];
+		const double det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+		if (det == 0)
+			continue;
+		const double l1 = ((x - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (y - a[1])) / det;
+		const double l2 = ((b[0] - a[0]) * (y - a[1]) - (x - a[0]) * (b[1] - a[1])) / det;
+		const double l0 = 1 - l1 - l2;
+		if (l0 < -1e-9 || l1 < -1e-9 || l2 < -1e-9)
+			continue;
+		const double l[3] = {l0, l1, l2};
+		out[0] = out[1] = 0;
+		for (size_t k = 0; k < 3; ++k) {
+			const size_t src = size_t(lm.sourceCorner[3 * f + k]);
+			out[0] += l[k] * double(uv[2 * src]), out[1] += l[k] * double(uv[2 * src + 1]);
+		}
+		return true;
+	}
+	return false;
+}
+
+// The largest distance, in texture space, between an input corner's coordinates and what level
+// lm interpolates at its vertex (measured here, independently of the engine).
+double measuredTexError(const FlatMesh &m, const std::vector<float> &uv, const LevelMesh &lm)
+{
+	double worst = 0;
+	for (size_t c = 0; c < m.triangles.size(); ++c) {
+		const double *p = &m.positions[3 * size_t(m.triangles[c])];
+		double at[2];
+		if (!levelUV(lm, uv, p[0], p[1], at))
+			return HUGE_VAL;
+		worst = std::max(worst, std::hypot(at[0] - double(uv[2 * c]), at[1] - double(uv[2 * c + 1])));
+	}
+	return worst;
+}
+
+// Per-corner texture coordinates of m from a function of the corner's position.
+template <class Fn>
+std::vector<float> cornerUVs(const FlatMesh &m, Fn fn)
+{
+	std::vector<float> uv(2 * m.triangles.size());
+	for (size_t c = 0; c < m.triangles.size(); ++c) {
+		const double *p = &m.positions[3 * size_t(m.triangles[c])];
+		uv[2 * c] = float(fn(p[0], p[1])[0]), uv[2 * c + 1] = float(fn(p[0], p[1])[1]);
+	}
+	return uv;
+}
+
+} // namespace
+
+TEST(Attributes, affine_texture_coordinates_let_a_plane_become_two_triangles)
+{
+	const FlatMesh m = flatGrid(16);
+	const std::vector<float> uv = cornerUVs(m, [](double x, double y) {
+		return std::array<double, 2>{{0.3 * x + 0.1 * y + 0.4, 0.5 * y - 0.2 * x + 0.3}};
+	});
+	MeshView v = withKeys(m, nullptr, nullptr);
+	v.cornerUV = uv.data();
+	const Result r = buildLevels(v, Params());
+	ASSERT_TRUE(r.ok) << r.error;
+	for (const LevelMesh &lm : r.levels) {
+		EXPECT_EQ(lm.stats.faces, 2u);
+		EXPECT_GE(lm.stats.maxTexError, 0.0);
+		EXPECT_LT(lm.stats.maxTexError, 1e-6);
+		EXPECT_LT(measuredTexError(m, uv, lm), 1e-6);
+	}
+}
+
+TEST(Attributes, texture_stretch_is_bounded_by_the_limit_at_every_level)
+{
+	const FlatMesh m = flatGrid(24);
+	// not affine: a linear map cannot follow it over large triangles
+	const std::vector<float> uv = cornerUVs(m, [](double x, double y) {
+		return std::array<double, 2>{{0.25 * (x + 1) * (x + 1), y + 0.1 * x * y}};
+	});
+	MeshView v = withKeys(m, nullptr, nullptr);
+	v.cornerUV = uv.data();
+	std::vector<size_t> coarsest;
+	for (const double limit : {1.0 / 2048, 1.0 / 256}) {
+		SCOPED_TRACE(limit);
+		Params prm;
+		prm.maxTexError = limit;
+		const Result r = buildLevels(v, prm);
+		ASSERT_TRUE(r.ok) << r.error;
+		for (const LevelMesh &lm : r.levels) {
+			SCOPED_TRACE("level " + std::to_string(lm.stats.level));
+			EXPECT_LE(lm.stats.maxTexError, limit);
+			EXPECT_GT(lm.stats.maxTexError, 0.0);
+			EXPECT_LE(measuredTexError(m, uv, lm), limit * (1 + 1e-6) + 1e-7);
+			EXPECT_LT(lm.stats.faces, m.triangles.size() / 3); // still simplified
+		}
+		coarsest.push_back(r.levels.back().stats.faces);
+	}
+	// refined where needed only (bisected superfaces, not the input faces): a looser limit,
+	// far fewer faces
+	EXPECT_LT(coarsest[1], coarsest[0] / 2) << coarsest[0];
+	Params off;
+	off.maxTexError = 0;
+	const Result r = buildLevels(v, off);
+	ASSERT_TRUE(r.ok) << r.error;
+	EXPECT_EQ(r.levels.back().stats.faces, 2u);
+	EXPECT_LT(r.levels.back().stats.maxTexError, 0.0); // (not measured)
+	EXPECT_GT(measuredTexError(m, uv, r.levels.back()), 1.0 / 256); // (the test can fail)
+}

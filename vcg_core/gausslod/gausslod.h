@@ -107,6 +107,17 @@ struct Params {
 	/// vertex is within this distance of the vertex it became (no chains). 0 = exactly equal
 	/// positions only.
 	double weldDistance = 0.0;
+	/// For the adapters that make MeshView's keys from a mesh's attributes (vcg_adapter.h):
+	/// faces of different materials, texture indices or face colours get different face keys.
+	bool keepMaterials = true;
+	/// For the adapters: corners whose texture coordinates, vertex colour or quality differ at
+	/// one (welded) vertex get different corner keys (seams are delimiters).
+	bool keepSeams = true;
+	/// With MeshView::cornerUV: the largest distance, in texture space, between a removed input
+	/// vertex's texture coordinates and what the new triangles interpolate there. A superface
+	/// beyond it fails like a normal-deviation failure. 0 = no limit. Default: half a texel
+	/// of a 1024 x 1024 texture.
+	double maxTexError = 1.0 / 2048;
 	/// Worker threads for the per-superface work; 0 = one per core (at most 64). The output does
 	/// not depend on it.
 	int threads = 0;
@@ -184,6 +195,8 @@ struct LevelStats {
 	                             ///< straightened chain, input faces from the triangles above
 	                             ///< them along the projection; mesh units): a bound, often above
 	                             ///< the Hausdorff distance; -1 = not measured (tolerance off)
+	double maxTexError = -1;     ///< with MeshView::cornerUV: the largest texture-coordinate
+	                             ///< error measured at removed vertices (UV units); -1 = none
 	double seconds = 0;          ///< wall time spent on this level, the sum of the stages:
 	double secondsPartition = 0; ///<  merging the finer level's superfaces (2.5; finest level:
 	                             ///<  adjacency, vertex classes and the finest buckets, 2.1-2.2.1)

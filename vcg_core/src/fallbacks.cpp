@@ -1,13 +1,19 @@
 // Fallback rounds (beyond the paper, which assumes every superface re-triangulates validly): a
 // failed superface is retried with tighter tolerances, then with its border locked, then split
-// into its superfaces of the next finer level (down to the input faces, always valid). The next
-// round rebuilds only what changed and reuses the other superfaces' triangles.
+// into its superfaces of the next finer level (down to the input faces, always valid). A superface
+// that fails the distance tolerance or the texture check (Failure::Distance) and has no finer
+// superfaces is cut in two halves instead (kBisect), down to a few faces, so that it is refined
+// where it is too far and stays coarse elsewhere. The next round rebuilds only what changed and
+// reuses the other superfaces' triangles.
 #include "level_passes.h"
 
 namespace gausslod {
 namespace detail {
 
 namespace {
+
+constexpr uint8_t kSplit = 1, kBisect = 2; // (split flags)
+constexpr int32_t kMinBisect = 4;          // fewer faces: split into the input faces
 
 // Decides each failed superface's fallback: after a deviation failure first its chains are
 // straightened and merged again with a quarter of the tolerances, up to kMaxTolSteps times; else
@@ -56,14 +62,73 @@ void chooseFallbacks(const Topology &t, const SuperfaceFaces &faces, const Faile
 				for (int k = 0; k < 3; ++k)
 					lock(t.T[3 * faces.face[size_t(fbeg)] + k]);
 		} else {
-			split[size_t(s)] = 1;
+			split[size_t(s)] =
+			    sf.second == Failure::Distance && fend - fbeg >= kMinBisect ? kBisect : kSplit;
 		}
 	}
 }
 
+// Superface s (faces in `faces`, range [fb, fe)) cut at the median of its face centroids along
+// their longest extent; each connected part of each half becomes a new superface with s's cell
+// and origin (made by add(cell, origin, parent)). `side` and `part` are per input face, all -1 /
+// 0 outside a call.
+template <class Add>
+void bisect(const Topology &t, const SuperfaceFaces &faces, int32_t s, Partition &p,
+            std::vector<int32_t> &relabeled, std::vector<int32_t> &part,
+            std::vector<int32_t> &stack, Add add)
+{
+	const int32_t fb = faces.begin(s), fe = faces.end(s);
+	auto centroid = [&](int32_t f) {
+		return (t.pos(t.T[3 * f]) + t.pos(t.T[3 * f + 1]) + t.pos(t.T[3 * f + 2])) / 3.0;
+	};
+	Vec3 lo = centroid(faces.face[size_t(fb)]), hi = lo;
+	for (int32_t i = fb; i < fe; ++i) {
+		const Vec3 c = centroid(faces.face[size_t(i)]);
+		for (int a = 0; a < 3; ++a)
+			lo[a] = std::min(lo[a], c[a]), hi[a] = std::max(hi[a], c[a]);
+	}
+	const Vec3 ext = hi - lo;
+	const int axis = ext[0] >= ext[1] && ext[0] >= ext[2] ? 0 : ext[1] >= ext[2] ? 1 : 2;
+	std::vector<std::pair<double, int32_t>> order; // (coordinate, face): ties by face id
+	order.reserve(size_t(fe - fb));
+	for (int32_t i = fb; i < fe; ++i)
+		order.emplace_back(centroid(faces.face[size_t(i)])[axis], faces.face[size_t(i)]);
+	const size_t half = order.size() / 2;
+	std::nth_element(order.begin(), order.begin() + std::ptrdiff_t(half), order.end());
+	for (size_t i = 0; i < order.size(); ++i)
+		part[size_t(order[i].second)] = i < half ? -2 : -3; // (the half, until given a part)
+	for (int32_t i = fb; i < fe; ++i) {
+		const int32_t seed = faces.face[size_t(i)];
+		if (part[size_t(seed)] >= 0)
+			continue;
+		const int32_t side = part[size_t(seed)];
+		const int32_t id = add(p.cell[size_t(s)], p.origin[size_t(s)], size_t(s));
+		part[size_t(seed)] = id;
+		stack.assign(1, seed);
+		while (!stack.empty()) {
+			const int32_t f = stack.back();
+			stack.pop_back();
+			p.label[size_t(f)] = id;
+			relabeled.push_back(f);
+			for (int k = 0; k < 3; ++k) {
+				const int32_t tw = t.joinTwin(size_t(3 * f + k));
+				if (tw < 0)
+					continue;
+				const int32_t g = heFace(tw);
+				if (part[size_t(g)] == side && p.label[size_t(g)] == int32_t(s)) {
+					part[size_t(g)] = id;
+					stack.push_back(g);
+				}
+			}
+		}
+	}
+	for (int32_t i = fb; i < fe; ++i)
+		part[size_t(faces.face[size_t(i)])] = -1;
+}
+
 // The faces of the split superfaces take new superfaces (appended to p.cell and p.origin): their
-// superfaces of the finer partition, or the input faces themselves. parentOf[i] = the superface
-// split into new superface base + i.
+// superfaces of the finer partition, or the input faces themselves, or (kBisect) the connected
+// parts of two halves. parentOf[i] = the superface split into new superface base + i.
 void splitIntoChildren(const Topology &t, const std::vector<Partition> &finer,
                        const SuperfaceFaces &faces, const std::vector<uint8_t> &split, Partition &p,
                        std::vector<int32_t> &relabeled, std::vector<int32_t> &parentOf)
@@ -78,10 +143,17 @@ void splitIntoChildren(const Topology &t, const std::vector<Partition> &finer,
 		parentOf.push_back(int32_t(parent));
 		return int32_t(p.cell.size() - 1);
 	};
+	std::vector<int32_t> part, stack; // (bisect)
 	for (size_t s = 0; s < base; ++s) {
 		if (!split[s])
 			continue;
 		const int o = p.origin[s];
+		if (split[s] == kBisect && (o == -1 || o >= finest)) {
+			if (part.empty())
+				part.assign(t.nF, -1);
+			bisect(t, faces, int32_t(s), p, relabeled, part, stack, add);
+			continue;
+		}
 		for (int32_t i = faces.start[s]; i < faces.start[s + 1]; ++i) {
 			const int32_t f = faces.face[size_t(i)];
 			int32_t id;

@@ -10,7 +10,7 @@
 namespace gausslod {
 namespace detail {
 
-LevelLimits levelLimits(const Params &prm, double diagonal, int level)
+LevelLimits levelLimits(const Params &prm, double diagonal, int level, bool hasUV)
 {
 	LevelLimits l;
 	// below this, border vertices count as exactly on their straightened chain
@@ -22,6 +22,7 @@ LevelLimits levelLimits(const Params &prm, double diagonal, int level)
 		l.tolerance = std::min(l.tolerance, std::max(l.maxDistance, l.exact));
 		l.mergeDistance = std::min(l.mergeDistance, 0.5 * l.maxDistance);
 	}
+	l.maxTexError = hasUV ? prm.maxTexError : 0;
 	l.devLimitDeg = prm.normalLimit > 0 ? prm.normalLimit * levelBoundDeg(level) : 180.0;
 	return l;
 }
@@ -100,13 +101,15 @@ public:
 	LevelRounds(const Topology &t, const Params &prm, const std::vector<Partition> &finer,
 	            Partition &p, LevelMesh &out, size_t faceLimit)
 	    : t_(t), finer_(finer), p_(p), out_(out), faceLimit_(faceLimit),
-	      limits_(levelLimits(prm, t.diagonal, p.level))
+	      limits_(levelLimits(prm, t.diagonal, p.level, t.UV != nullptr))
 	{
 		fb_.extraLock.assign(t_.nV, 0);
 		fb_.tolStep.assign(t_.nF, 0);
 		measures_.dev.assign(t_.nF, -1.0f);
 		if (limits_.maxDistance > 0)
 			measures_.gap.assign(t_.nF, 0.0f);
+		if (limits_.maxTexError > 0)
+			measures_.tex.assign(t_.nF, 0.0f);
 		chunks_.threads = threadCount(prm.threads);
 		chunks_.scratch.resize(chunks_.threads);
 	}
@@ -268,6 +271,8 @@ void LevelRounds::buildSuperface(int32_t s, Scratch &w, ChunkOut &o)
 			measures_.dev[size_t(faces_.face[size_t(i)])] = -1.0f; // (measured again below)
 			if (!measures_.gap.empty())
 				measures_.gap[size_t(faces_.face[size_t(i)])] = 0.0f;
+			if (!measures_.tex.empty())
+				measures_.tex[size_t(faces_.face[size_t(i)])] = 0.0f;
 		}
 		f = rings_.broken[size_t(s)] ? Failure::Fold : retriangulate(in, s, w, o, measures_);
 	}
@@ -432,6 +437,8 @@ void LevelRounds::fillStats(size_t fallbacks, size_t vertices)
 	st.unmeasuredFaces = unmeasured;
 	if (!measures_.gap.empty())
 		st.maxDistance = double(*std::max_element(measures_.gap.begin(), measures_.gap.end()));
+	if (!measures_.tex.empty())
+		st.maxTexError = double(*std::max_element(measures_.tex.begin(), measures_.tex.end()));
 }
 
 } // namespace

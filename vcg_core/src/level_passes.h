@@ -4,6 +4,7 @@
 //   straighten_merge.cpp        2.3    straightening (2.3.1) and vicinity merging (2.3.2)
 //   superface_triangulation.cpp 2.4    re-triangulation of one superface and its checks
 //   distance_check.cpp          2.4    the distance tolerance (beyond the paper)
+//   texture_check.cpp           2.4    the texture-stretch check (beyond the paper)
 //   level_check.cpp                    the whole-level edge check
 //   fallbacks.cpp                      fallback rounds: retry, lock, split; reuse of triangles
 //   level_geometry.cpp                 the rounds of one level, and its output
@@ -29,9 +30,10 @@ struct LevelLimits {
 	double mergeDistance = 0; ///< vicinity merge distance (2.3.2); 0 = no merging
 	double devLimitDeg = 180; ///< normal-deviation limit of the level; 180 = none
 	double maxDistance = 0;   ///< distance tolerance; 0 = none
+	double maxTexError = 0;   ///< texture-coordinate limit (UV units); 0 = none or no UVs
 	double exact = 0;         ///< below this, a vertex counts as exactly on its chain
 };
-LevelLimits levelLimits(const Params &params, double diagonal, int level);
+LevelLimits levelLimits(const Params &params, double diagonal, int level, bool hasUV);
 
 /// Why a superface failed: Fold (its projection folds, or its rings could not be traced) goes
 /// straight to the split; Deviation (an input face deviates from its new triangle more than the
@@ -124,11 +126,12 @@ struct ChunkOut {
 struct Scratch {
 	TriangulationJob job;
 	std::vector<int32_t> ringVerts, ringVertStart, seq, stack;
+	std::vector<float> ringUV; ///< with the texture check: u, v of each ring vertex's corner
 	std::vector<uint64_t> edgesNow, edgesBefore; // directed border edges (see reuse)
 	std::vector<Vec3> triNormal, centroid;
 	std::vector<double> ownDist2;
 	std::vector<uint8_t> covered;
-	// distance tolerance: each vertex of a superface's faces located once
+	// distance tolerance and texture check: each vertex of a superface's faces located once
 	std::vector<int32_t> vertQuery;   ///< per input vertex: its query, -1 between superfaces
 	std::vector<int32_t> cornerQuery; ///< per face corner of the superface: its vertex's query
 	std::vector<int32_t> touched;     ///< the vertices given a query (to reset vertQuery)
@@ -166,6 +169,7 @@ struct Chunks {
 struct FaceMeasures {
 	std::vector<float> dev; ///< normal deviation, degrees; -1 = not measured
 	std::vector<float> gap; ///< distance measured by the tolerance check (maxDistance > 0 only)
+	std::vector<float> tex; ///< texture-coordinate error measured (maxTexError > 0 only)
 };
 
 /// A superface's triangles in a round: a range of that round's triangle arrays.
@@ -232,6 +236,10 @@ Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, Chunk
 /// The distance tolerance on superface s, just triangulated from triangle firstTri of o.
 Failure distanceCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
                       const Scratch &w, const ChunkOut &o, std::vector<float> &gap);
+
+/// The texture-stretch check on superface s, just triangulated from triangle firstTri of o.
+Failure textureCheck(const TriangulationInput &in, int32_t s, size_t firstTri, const Scratch &w,
+                     const ChunkOut &o, std::vector<float> &tex);
 
 // ---- whole-level check (level_check.cpp)
 

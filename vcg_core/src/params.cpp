@@ -110,6 +110,31 @@ std::vector<Entry> makeEntries()
 	      "(default).",
 	      d.weldDistance, 0, 1, false, true},
 	     &Params::weldDistance},
+	    {{"keepMaterials", K::Flag, "Keep materials apart", "faces of different materials never merge",
+	      "Faces with different materials, textures or face colours (MeshLab reads OBJ "
+	      "materials into these) never share a superface: every output face has its input "
+	      "faces' material. Off = merge across material changes (the output face takes the "
+	      "material of one face it replaces). Only acts when the mesh has such attributes.",
+	      double(d.keepMaterials), 0, 1, false, true},
+	     &Params::keepMaterials},
+	    {{"keepSeams", K::Flag, "Keep seams",
+	      "texture seams and colour discontinuities are borders",
+	      "Edges where the texture coordinates (per wedge or per vertex) or the vertex colour "
+	      "or quality differ between the two faces (UV seams, colour seams of meshes with "
+	      "duplicated vertices) are borders at every level: kept, straightened and merged "
+	      "only along themselves. Off = merge across them (one side's values win). Only acts "
+	      "when the mesh has such attributes.",
+	      double(d.keepSeams), 0, 1, false, true},
+	     &Params::keepSeams},
+	    {{"maxTexError", K::Real, "Texture error limit (UV units)",
+	      "texture-coordinate error limit, UV units (0 = none)",
+	      "With texture coordinates: a superface whose new triangles interpolate, at an input "
+	      "vertex they remove, texture coordinates farther than this from the vertex's own "
+	      "(in texture space, 1 = the texture's width) is retried with tighter borders, then "
+	      "split, like a normal-deviation failure. Default 1/2048: half a texel of a 1024 "
+	      "texture. 0 = no limit. Each level reports the largest error measured.",
+	      d.maxTexError, 0, kInf, false, true},
+	     &Params::maxTexError},
 	    {{"threads", K::Integer, "Worker threads", "worker threads, 0 = one per core",
 	      "Worker threads, 0 = one per core (at most 64); the output does not depend on it.",
 	      double(d.threads), 0, kInf, false, false},

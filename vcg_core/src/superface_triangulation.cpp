@@ -35,12 +35,20 @@ void copyInputFaces(const TriangulationInput &in, int32_t s, bool frozen, ChunkO
 bool keptRingVertices(const TriangulationInput &in, int32_t s, Scratch &w)
 {
 	w.ringVerts.clear();
+	w.ringUV.clear();
 	w.ringVertStart.assign(1, 0);
+	const bool uv = in.limits.maxTexError > 0;
 	for (int32_t r = in.rings.sfStart[size_t(s)]; r < in.rings.sfStart[size_t(s) + 1]; ++r) {
 		for (int32_t i = in.rings.start[size_t(r)]; i < in.rings.start[size_t(r) + 1]; ++i) {
 			const int32_t v = in.t.heFrom(in.rings.he[size_t(i)]);
-			if (in.b.keep[size_t(v)])
-				w.ringVerts.push_back(v);
+			if (!in.b.keep[size_t(v)])
+				continue;
+			w.ringVerts.push_back(v);
+			if (uv) {
+				const int32_t h = in.rings.he[size_t(i)];
+				w.ringUV.push_back(in.t.UV[2 * size_t(h)]);
+				w.ringUV.push_back(in.t.UV[2 * size_t(h) + 1]);
+			}
 		}
 		if (int32_t(w.ringVerts.size()) - w.ringVertStart.back() < 3)
 			return false;
@@ -50,8 +58,8 @@ bool keptRingVertices(const TriangulationInput &in, int32_t s, Scratch &w)
 }
 
 // The triangulation job of superface s on the plane orthogonal to N (U x V = N): its kept ring
-// vertices, the centroid of each of its faces as a query, and with the distance tolerance every
-// vertex of its faces once (see distanceCheck).
+// vertices, the centroid of each of its faces as a query, and with the distance tolerance or the
+// texture check every vertex of its faces once (see distanceCheck).
 void projectSuperface(const TriangulationInput &in, int32_t s, const Vec3 &N, Scratch &w)
 {
 	const Topology &t = in.t;
@@ -73,7 +81,7 @@ void projectSuperface(const TriangulationInput &in, int32_t s, const Vec3 &N, Sc
 		const Vec3 c = (t.pos(t.T[3 * f]) + t.pos(t.T[3 * f + 1]) + t.pos(t.T[3 * f + 2])) / 3.0;
 		project(c, &w.job.queryXY[2 * size_t(i - fb)]);
 	}
-	if (!(in.limits.maxDistance > 0))
+	if (!(in.limits.maxDistance > 0) && !(in.limits.maxTexError > 0))
 		return;
 	if (w.vertQuery.size() != t.nV)
 		w.vertQuery.assign(t.nV, -1);
@@ -273,6 +281,11 @@ Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, Chunk
 		const Failure far = distanceCheck(in, s, N, firstTri, w, o, m.gap);
 		if (far != Failure::None)
 			return far;
+	}
+	if (in.limits.maxTexError > 0) {
+		const Failure stretched = textureCheck(in, s, firstTri, w, o, m.tex);
+		if (stretched != Failure::None)
+			return stretched;
 	}
 	if (!uncoveredFacing(in, s, o, firstTri, w) || !nearestSurfaceFacing(in.t, w))
 		return Failure::Ring;
