@@ -296,3 +296,66 @@ TEST(Attributes, texture_stretch_is_bounded_by_the_limit_at_every_level)
 	EXPECT_LT(r.levels.back().stats.maxTexError, 0.0); // (not measured)
 	EXPECT_GT(measuredTexError(m, uv, r.levels.back()), 1.0 / 256); // (the test can fail)
 }
+
+TEST(Attributes, kept_faces_are_in_every_level_exactly_as_they_are)
+{
+	for (const char *name : {"fandisk.off", "cow.off"}) {
+		SCOPED_TRACE(name);
+		const FlatMesh m = loadOff(name);
+		const size_t nF = m.triangles.size() / 3;
+		// keep the faces on one side of the bounding box (a selection of the other side)
+		double lo = HUGE_VAL, hi = -HUGE_VAL;
+		for (size_t f = 0; f < nF; ++f)
+			lo = std::min(lo, centroidX(m, f)), hi = std::max(hi, centroidX(m, f));
+		std::vector<uint8_t> keep(nF);
+		for (size_t f = 0; f < nF; ++f)
+			keep[f] = centroidX(m, f) < lo + 0.4 * (hi - lo);
+		MeshView v = m.view();
+		v.keepFace = keep.data();
+		const Result r = buildLevels(v, Params());
+		ASSERT_TRUE(r.ok) << r.error;
+		using Tri = std::array<double, 9>;
+		auto rotated = [](const double *a, const double *b, const double *c) { // canonical start
+			Tri t[3];
+			const double *p[3] = {a, b, c};
+			for (int s = 0; s < 3; ++s)
+				for (int k = 0; k < 3; ++k)
+					for (int j = 0; j < 3; ++j)
+						t[s][size_t(3 * k + j)] = p[(s + k) % 3][j];
+			return std::min({t[0], t[1], t[2]});
+		};
+		std::set<Tri> kept;
+		for (size_t f = 0; f < nF; ++f)
+			if (keep[f])
+				kept.insert(rotated(&m.positions[3 * size_t(m.triangles[3 * f])],
+				                    &m.positions[3 * size_t(m.triangles[3 * f + 1])],
+				                    &m.positions[3 * size_t(m.triangles[3 * f + 2])]));
+		EXPECT_EQ(r.input.facesKept, kept.size());
+		for (const LevelMesh &lm : r.levels) {
+			SCOPED_TRACE("level " + std::to_string(lm.stats.level));
+			std::set<Tri> out;
+			for (size_t f = 0; f < lm.triangles.size() / 3; ++f)
+				out.insert(rotated(&lm.positions[3 * size_t(lm.triangles[3 * f])],
+				                   &lm.positions[3 * size_t(lm.triangles[3 * f + 1])],
+				                   &lm.positions[3 * size_t(lm.triangles[3 * f + 2])]));
+			size_t missing = 0;
+			for (const Tri &t : kept)
+				missing += out.count(t) == 0;
+			EXPECT_EQ(missing, 0u);
+			EXPECT_LT(lm.stats.faces - kept.size(), nF - kept.size()); // the rest simplified
+		}
+		EXPECT_LT(r.levels.back().stats.faces - kept.size(), (nF - kept.size()) * 3 / 4);
+		const Result plain = buildLevels(m.view(), Params());
+		ASSERT_TRUE(plain.ok);
+		size_t survived = 0; // (the test can fail: without keepFace most of them go)
+		std::set<Tri> out;
+		const LevelMesh &last = plain.levels.back();
+		for (size_t f = 0; f < last.triangles.size() / 3; ++f)
+			out.insert(rotated(&last.positions[3 * size_t(last.triangles[3 * f])],
+			                   &last.positions[3 * size_t(last.triangles[3 * f + 1])],
+			                   &last.positions[3 * size_t(last.triangles[3 * f + 2])]));
+		for (const Tri &t : kept)
+			survived += out.count(t);
+		EXPECT_LT(survived, kept.size() / 2);
+	}
+}

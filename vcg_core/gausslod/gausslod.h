@@ -52,6 +52,10 @@ struct MeshView {
 	/// whose re-triangulation interpolates a removed vertex's coordinates farther than
 	/// Params::maxTexError from its own is refused like a normal-deviation failure.
 	const float *cornerUV = nullptr;
+	/// Optional, one per face: nonzero = keep this face exactly as it is in every level (its
+	/// vertices are never moved or removed, it is never merged; e.g. the faces outside a
+	/// selection). The edges between kept and other faces are borders.
+	const uint8_t *keepFace = nullptr;
 	/// Fill LevelMesh::sourceCorner and sourceFace (what a caller needs to carry attributes).
 	bool wantSources = false;
 };
@@ -173,7 +177,9 @@ struct InputStats {
 	                                ///< orientation; a reversed copy is kept)
 	size_t facesDegenerate = 0;     ///< kept as they are, never merged: zero area, no normal
 	size_t verticesLocked = 0;      ///< never moved or removed: on non-manifold or inconsistently
-	                                ///< oriented edges, non-manifold vertices, degenerate faces
+	                                ///< oriented edges, non-manifold vertices, degenerate faces,
+	                                ///< faces kept as they are (MeshView::keepFace)
+	size_t facesKept = 0;           ///< kept as they are at the caller's request (keepFace)
 	size_t facesSkipped() const { return facesRepeatedVertex + facesDuplicate; }
 };
 

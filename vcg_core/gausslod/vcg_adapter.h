@@ -22,6 +22,7 @@ struct FlatMesh {
 	std::vector<int32_t> triangles;
 	std::vector<uint32_t> faceKey, cornerKey; ///< empty = none (see MeshView)
 	std::vector<float> cornerUV;              ///< empty = none (see MeshView)
+	std::vector<uint8_t> keepFace;            ///< empty = none (see MeshView)
 	std::vector<int32_t> vertIndex, faceIndex; ///< VCG index per flat vertex / face (attributes)
 	MeshView view() const
 	{
@@ -33,6 +34,7 @@ struct FlatMesh {
 		v.faceKey = faceKey.empty() ? nullptr : faceKey.data();
 		v.cornerKey = cornerKey.empty() ? nullptr : cornerKey.data();
 		v.cornerUV = cornerUV.empty() ? nullptr : cornerUV.data();
+		v.keepFace = keepFace.empty() ? nullptr : keepFace.data();
 		v.wantSources = !faceIndex.empty();
 		return v;
 	}
@@ -119,8 +121,8 @@ uint64_t colourBits(const Colour &c)
 } // namespace detail
 
 /// flatten() with what keeps attributes exact: with `attrs` set, face keys from materials
-/// (texture index, face colour; Params::keepMaterials) and the selection (`selectedOnly`: every
-/// unselected face is a superface of its own, so it is kept as it is), corner keys from texture
+/// (texture index, face colour; Params::keepMaterials), the selection (`selectedOnly`: every
+/// unselected face is kept as it is, MeshView::keepFace), corner keys from texture
 /// coordinates and per-vertex colour / quality of the corner's own vertex (Params::keepSeams),
 /// the corners' texture coordinates, and the sources asked for. Normals are never keys.
 template <class MeshT>
@@ -140,18 +142,20 @@ FlatMesh flattenWithAttributes(const MeshT &m, const MeshAttributes &attrs, cons
 	auto face = [&](size_t f) -> const typename MeshT::FaceType & {
 		return m.face[size_t(out.faceIndex[f])];
 	};
+	if (selectedOnly) {
+		out.keepFace.resize(nF);
+		for (size_t f = 0; f < nF; ++f)
+			out.keepFace[f] = face(f).IsS() ? 0 : 1;
+	}
 	const bool materials = params.keepMaterials && (attrs.faceColor || attrs.wedgeTexCoord);
-	if (materials || selectedOnly) {
+	if (materials) {
 		out.faceKey.resize(nF);
 		detail::IdMap<detail::Words2> id;
 		for (size_t f = 0; f < nF; ++f) {
 			const auto &fc = face(f);
 			detail::Words2 k{{0, 0}};
-			if (selectedOnly && !fc.IsS())
-				k.w = {~uint64_t(0), uint64_t(f)}; // (alone)
-			else if (materials)
-				k.w[0] = (attrs.faceColor ? detail::colourBits(fc.cC()) : 0) << 16 |
-				         uint64_t(uint16_t(attrs.wedgeTexCoord ? fc.cWT(0).n() : 0));
+			k.w[0] = (attrs.faceColor ? detail::colourBits(fc.cC()) : 0) << 16 |
+			         uint64_t(uint16_t(attrs.wedgeTexCoord ? fc.cWT(0).n() : 0));
 			out.faceKey[f] = id(k);
 		}
 	}

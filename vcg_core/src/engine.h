@@ -257,6 +257,7 @@ struct Topology {
 	double diagonal = 0;
 	const float *UV = nullptr; ///< 2 per face corner (MeshView::cornerUV), optional
 	bool wantSources = false;  ///< MeshView::wantSources
+	const uint8_t *keepFace = nullptr; ///< MeshView::keepFace, optional
 
 	std::vector<Vec3> faceNormal;  ///< unit normal (zero for invalid faces)
 	std::vector<double> faceArea;  ///< area

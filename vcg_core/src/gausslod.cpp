@@ -64,6 +64,9 @@ void countRepairs(const MeshView &m, const detail::Topology &t, InputStats &in)
 		}
 	}
 	in.facesDuplicate = dropped - in.facesRepeatedVertex;
+	if (m.keepFace)
+		for (size_t f = 0; f < t.nF; ++f)
+			in.facesKept += m.keepFace[f] && !t.faceDropped[f];
 	for (uint8_t l : t.vertexLocked)
 		in.verticesLocked += l;
 }

@@ -13,7 +13,7 @@ void finestPartition(const Topology &t, int level, Partition &out)
 	out.origin.clear();
 	std::vector<CellKey> faceCell(t.nF, kInvalidCell);
 	for (size_t f = 0; f < t.nF; ++f)
-		if (t.faceValid[f])
+		if (t.faceValid[f] && !(t.keepFace && t.keepFace[f]))
 			faceCell[f] = cellOfNormal(t.faceNormal[f], level);
 	std::vector<int32_t> stack;
 	for (size_t f0 = 0; f0 < t.nF; ++f0) {
@@ -25,7 +25,7 @@ void finestPartition(const Topology &t, int level, Partition &out)
 		out.origin.push_back(int8_t(key == kInvalidCell ? -1 : level));
 		out.label[f0] = id;
 		if (key == kInvalidCell)
-			continue; // an invalid face stays alone and is kept as it is
+			continue; // an invalid face (or one kept at the caller's request) stays alone, as it is
 		stack.assign(1, int32_t(f0));
 		while (!stack.empty()) {
 			const int32_t f = stack.back();

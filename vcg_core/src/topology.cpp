@@ -1,4 +1,5 @@
-// Adjacency (2.2: which edges may join a superface) and vertex classes (2.3.2), one linear pass each.
+// Adjacency (2.2: which edges may join a superface) and vertex classes (2.3.2), one linear pass
+// each.
 #include "engine.h"
 
 #include <algorithm>
@@ -379,6 +380,17 @@ static void markDelimiters(const MeshView &mesh, Topology &t)
 	}
 }
 
+// Faces the caller keeps as they are (MeshView::keepFace): their vertices are locked.
+void lockKeptFaces(Topology &t)
+{
+	if (!t.keepFace)
+		return;
+	for (size_t f = 0; f < t.nF; ++f)
+		if (t.keepFace[f] && !t.faceDropped[f])
+			for (int k = 0; k < 3; ++k)
+				t.vertexLocked[size_t(t.T[3 * f + k])] = 1;
+}
+
 void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &t, size_t threads,
                    bool withGrid)
 {
@@ -389,11 +401,13 @@ void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &t, si
 	t.diagonal = bboxDiagonal(mesh);
 	t.UV = mesh.cornerUV;
 	t.wantSources = mesh.wantSources;
+	t.keepFace = mesh.keepFace;
 	dropNonTriangles(t, threads);
 	computeFaces(t, threads);
 	buildTwins(t, threads);
 	markDelimiters(mesh, t);
 	lockNonManifoldVertices(t, threads);
+	lockKeptFaces(t);
 	classifyVertices(t, featureAngleDeg, threads);
 	if (withGrid)
 		buildFaceGrid(t);
