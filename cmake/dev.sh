@@ -22,6 +22,25 @@ configure_build() { # DIR [cmake args...]
   cmake --build "$dir" -j"$jobs"
 }
 
+# fuzz NAME TARGET REGRESSIONS SECONDS [SEEDS]: the known crash inputs of tests/fuzz/REGRESSIONS
+# first (each must now pass), then a bounded random run (SECONDS) from build-fuzz/NAME-corpus.
+fuzz() {
+  local name=$1 target=build-fuzz/tests/fuzz/$2 regressions=tests/fuzz/$3 seconds=$4 seeds=${5:-}
+  echo "== libFuzzer: $name ($seconds s)"
+  local known=("$regressions"/*)
+  [ -e "${known[0]}" ] && "$target" "${known[@]}"
+  mkdir -p "build-fuzz/$name-corpus"
+  if ! "$target" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=4096 \
+    -artifact_prefix="build-fuzz/$name-" -print_final_stats=1 "build-fuzz/$name-corpus" $seeds \
+    >"build-fuzz/$name.log" 2>&1; then
+    tail -n 60 "build-fuzz/$name.log"
+    echo "fuzz: $name FAILED; the crash input is build-fuzz/$name-crash-*: fix, then add it to $regressions/"
+    exit 1
+  fi
+  grep -E '^(Done|stat::number_of_executed_units|stat::new_units_added)' "build-fuzz/$name.log" || true
+  echo "fuzz: $name passed (no crash, no leak, no invariant broken)"
+}
+
 case "${1:-}" in
   demo)
     mesh=${2:-.deps/cgal-data/data/meshes/fandisk.off}
@@ -37,34 +56,10 @@ case "${1:-}" in
     configure_build build-asan -DGAUSSLOD_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
       ctest --test-dir build-asan --output-on-failure -j1
-    echo "== libFuzzer on the core (${GAUSSLOD_FUZZ_SECONDS:-60} s; GAUSSLOD_FUZZ_SECONDS to change)"
     CXX=clang++ configure_build build-fuzz -DGAUSSLOD_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
-    # known crash inputs first (each must now pass), then a bounded random run
-    regressions=(tests/fuzz/regressions/*)
-    [ -e "${regressions[0]}" ] && build-fuzz/tests/fuzz/fuzz_gausslod "${regressions[@]}"
-    mkdir -p build-fuzz/corpus
-    if ! build-fuzz/tests/fuzz/fuzz_gausslod -max_total_time="${GAUSSLOD_FUZZ_SECONDS:-60}" \
-      -timeout=20 -rss_limit_mb=4096 -artifact_prefix=build-fuzz/ -print_final_stats=1 \
-      build-fuzz/corpus >build-fuzz/fuzz.log 2>&1; then
-      tail -n 60 build-fuzz/fuzz.log
-      echo "fuzz: FAILED; the crash input is in build-fuzz/ (crash-*): fix, then add it to tests/fuzz/regressions/"
-      exit 1
-    fi
-    grep -E '^(Done|stat::number_of_executed_units|stat::new_units_added)' build-fuzz/fuzz.log || true
-    echo "fuzz: passed (no crash, no invariant broken)"
-    echo "== libFuzzer on the file readers (${GAUSSLOD_FUZZ_READERS_SECONDS:-30} s; GAUSSLOD_FUZZ_READERS_SECONDS to change)"
-    reader_regressions=(tests/fuzz/reader_regressions/*)
-    [ -e "${reader_regressions[0]}" ] && build-fuzz/tests/fuzz/fuzz_readers "${reader_regressions[@]}"
-    mkdir -p build-fuzz/reader_corpus
-    if ! build-fuzz/tests/fuzz/fuzz_readers -max_total_time="${GAUSSLOD_FUZZ_READERS_SECONDS:-30}" \
-      -timeout=20 -rss_limit_mb=4096 -artifact_prefix=build-fuzz/readers- -print_final_stats=1 \
-      build-fuzz/reader_corpus tests/fuzz/reader_seeds >build-fuzz/fuzz_readers.log 2>&1; then
-      tail -n 60 build-fuzz/fuzz_readers.log
-      echo "fuzz: FAILED; the crash input is in build-fuzz/ (readers-crash-*): fix, then add it to tests/fuzz/reader_regressions/"
-      exit 1
-    fi
-    grep -E '^(Done|stat::number_of_executed_units|stat::new_units_added)' build-fuzz/fuzz_readers.log || true
-    echo "fuzz: readers passed (no crash, no leak, no invariant broken)"
+    fuzz engine fuzz_gausslod regressions "${GAUSSLOD_FUZZ_SECONDS:-60}"
+    fuzz readers fuzz_readers reader_regressions "${GAUSSLOD_FUZZ_READERS_SECONDS:-30}" \
+      tests/fuzz/reader_seeds
     # reached only if every stage passed (set -e): CTest suite, sanitizer suite, fuzzing
     echo "suites: 3 passed, 0 failed"
     ;;

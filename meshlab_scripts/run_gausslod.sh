@@ -151,6 +151,8 @@ level_stats() {
 }
 missing=0
 fmt='%-6s %10s %10s %10s %9s %9s %9s %9s %8s  %s\n'
+repairs=$(grep -m1 -o 'Input repairs (the input layer is unchanged): .*' "$log" || true)
+[ -z "$repairs" ] || echo "${repairs/ (the input layer is unchanged)/}"
 printf "$fmt" level faces vertices superfaces fallbacks bound maxdev meandev seconds file
 printf "$fmt" input "$in_faces" "$in_verts" - - - - - - "$input"
 for i in "${!levels[@]}"; do
