@@ -2,7 +2,11 @@
 # run_gausslod.sh INPUT OUTDIR [SCRIPT.mlx]
 #
 # Runs the GaussLOD MeshLab filter on INPUT with meshlabserver (under xvfb-run: meshlabserver 2020.09
-# needs an X server) and saves every layer the filter adds as OUTDIR/<name>_LOD<level>.ply.
+# needs an X server) and saves every layer the filter adds as OUTDIR/<name>_LOD<level>.ply, with
+# the attributes the input has (vertex colour and quality, vertex and wedge texture coordinates
+# with the texture file names, face colours: OBJ materials arrive as face colours and texture
+# indices) and nothing it lacks. Textures named by a relative path are copied to the same relative
+# path under OUTDIR (when OUTDIR is not the input's folder), so that the levels find them.
 # SCRIPT defaults to gausslod_default.mlx next to this file; it must hold the GaussLOD filter, and
 # its maxLevel/outputLevels say which levels come out (layers 1..N, finest first, after the input).
 #
@@ -98,7 +102,25 @@ else
   mapfile -t levels < <(printf '%s\n' "${levels[@]}" | sort -rnu) # finest first, as the layers
 fi
 [ ${#levels[@]} -gt 0 ] || die 2 "outputLevels '$output_levels' in $script selects no level"
-grep -q 'name="colourSuperfaces"[^>]*value="true"' "$script" && save_mask=(-m fc) || save_mask=()
+# What meshlabserver saves: texture coordinates and face colours are optional components of
+# MeshLab's mesh (saved only if the layer has them); vertex colour and quality are always there, so
+# they are saved only if the input file has them (its header: PLY vertex properties, OBJ 'v' lines
+# with colours, OFF's C prefix).
+vertex_attributes() { # prints vc and/or vq
+  case ${input,,} in
+    *.ply)
+      LC_ALL=C awk '
+        $1 == "element" { inv = ($2 == "vertex") }
+        inv && $1 == "property" && $NF ~ /^(red|r|diffuse_red)$/ { c = 1 }
+        inv && $1 == "property" && $NF ~ /^(quality|scalar|confidence)$/ { q = 1 }
+        $1 == "end_header" { exit }
+        END { if (c) print "vc"; if (q) print "vq" }' "$input" 2>/dev/null || true ;;
+    *.obj) LC_ALL=C awk '$1 == "v" && NF >= 7 { print "vc"; exit }' "$input" 2>/dev/null || true ;;
+    *.off) head -c 5 "$input" | grep -q '^C' && echo vc || true ;;
+  esac
+}
+mapfile -t vertex_mask < <(vertex_attributes)
+save_mask=(-m fc wt vt "${vertex_mask[@]}")
 
 # --- run -----------------------------------------------------------------------------------------
 mkdir -p "$outdir" || die 2 "cannot create output folder $outdir"
@@ -153,6 +175,28 @@ missing=0
 fmt='%-6s %10s %10s %10s %9s %9s %9s %9s %8s  %s\n'
 repairs=$(grep -m1 -o 'Input repairs (the input layer is unchanged): .*' "$log" || true)
 [ -z "$repairs" ] || echo "${repairs/ (the input layer is unchanged)/}"
+carried=$(grep -m1 -o 'Carried to the levels: .*' "$log" || true)
+[ -z "$carried" ] || echo "$carried"
+# textures named relative to the input's folder: copied to the same place under OUTDIR
+in_dir=$(dirname "$input_abs")
+textures=$(echo "$carried" | sed -n 's/.*; textures: //p' | sed 's/; [a-z].*//')
+if [ -n "$textures" ] && [ "$in_dir" != "$outdir" ]; then
+  while IFS= read -r t; do
+    [ -n "$t" ] || continue
+    case $t in
+      /*) continue ;; # absolute: found from anywhere
+      ../* | */../*)
+        echo "$me: warning: texture $t is outside the input's folder: not copied" >&2
+        continue ;;
+    esac
+    if [ -f "$in_dir/$t" ]; then
+      mkdir -p "$outdir/$(dirname "$t")"
+      cp -p "$in_dir/$t" "$outdir/$t"
+    else
+      echo "$me: warning: texture $t not found next to $input" >&2
+    fi
+  done < <(echo "$textures" | sed 's/ | /\n/g')
+fi
 printf "$fmt" level faces vertices superfaces fallbacks bound maxdev meandev seconds file
 printf "$fmt" input "$in_faces" "$in_verts" - - - - - - "$input"
 for i in "${!levels[@]}"; do

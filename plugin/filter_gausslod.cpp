@@ -6,8 +6,12 @@
 #include <gausslod/gausslod.h>
 #include <gausslod/vcg_adapter.h>
 
+#include <QApplication>
+#include <QDir>
 #include <QFileInfo>
 #include <QLocale>
+#include <QStringList>
+#include <QWidget>
 
 #include <algorithm>
 #include <cmath>
@@ -22,8 +26,71 @@ const char *const kFilterName = "Gauss Sphere LOD: Merge Near-Coplanar Faces";
 struct FilterRequest {
 	gausslod::Params params;
 	bool colourSuperfaces = true;
+	bool overwriteColours = false;
 	bool fauxEdges = true;
+	bool selectedOnly = false;
 };
+
+/// The attributes of a layer that the levels carry (what its data mask says it has).
+gausslod::MeshAttributes layerAttributes(const MeshModel &m)
+{
+	gausslod::MeshAttributes a;
+	a.vertColor = m.hasDataMask(MeshModel::MM_VERTCOLOR);
+	a.vertQuality = m.hasDataMask(MeshModel::MM_VERTQUALITY);
+	a.vertTexCoord = m.hasDataMask(MeshModel::MM_VERTTEXCOORD);
+	a.wedgeTexCoord = m.hasDataMask(MeshModel::MM_WEDGTEXCOORD);
+	a.faceColor = m.hasDataMask(MeshModel::MM_FACECOLOR);
+	return a;
+}
+
+/// What the levels carry, as words the runner maps to meshlabserver's save options (vc, vq, vt,
+/// wt, fc): "vertex colour, vertex quality, vertex texture coordinates, wedge texture
+/// coordinates, face colour".
+QString carriedText(const gausslod::MeshAttributes &a, bool superfaceColours)
+{
+	QStringList l;
+	if (a.vertColor)
+		l << "vertex colour";
+	if (a.vertQuality)
+		l << "vertex quality";
+	if (a.vertTexCoord)
+		l << "vertex texture coordinates";
+	if (a.wedgeTexCoord)
+		l << "wedge texture coordinates";
+	if (a.faceColor)
+		l << "face colour";
+	else if (superfaceColours)
+		l << "face colour (by superface)";
+	return l.isEmpty() ? QString("geometry only") : l.join(", ");
+}
+
+/// MeshLab's main window when the filter runs in the GUI (none in meshlabserver).
+QWidget *mainWindow()
+{
+	if (qobject_cast<QApplication *>(QCoreApplication::instance()) == nullptr)
+		return nullptr;
+	for (QWidget *w : QApplication::topLevelWidgets())
+		if (w->inherits("MainWindow"))
+			return w;
+	return nullptr;
+}
+
+/// In the GUI, a level's texture names are made absolute (next to the input's file) so that
+/// MeshLab finds the images whatever its current folder; in meshlabserver they stay as the input
+/// has them (relative to the input's folder, as the runner expects).
+void levelTextures(const MeshModel &input, CMeshO &level, bool gui)
+{
+	level.textures = input.cm.textures;
+	level.normalmaps = input.cm.normalmaps;
+	if (!gui || input.fullName().isEmpty())
+		return;
+	const QDir dir = QFileInfo(input.fullName()).absoluteDir();
+	for (std::string &t : level.textures) {
+		const QString name = QString::fromStdString(t);
+		if (QFileInfo(name).isRelative() && QFileInfo(dir.filePath(name)).exists())
+			t = QDir::cleanPath(dir.absoluteFilePath(name)).toStdString();
+	}
+}
 
 QString thousands(size_t n)
 {
@@ -72,7 +139,9 @@ bool readRequest(const RichParameterList &par, double diag, FilterRequest &req, 
 		return false;
 	}
 	req.colourSuperfaces = par.getBool("colourSuperfaces");
+	req.overwriteColours = par.getBool("overwriteColours");
 	req.fauxEdges = par.getBool("fauxEdges");
+	req.selectedOnly = par.getBool("selectedOnly");
 	return true;
 }
 
@@ -117,6 +186,9 @@ QString levelLogLine(const gausslod::LevelStats &s, double diag)
 	        .arg(QString::number(s.seconds, 'f', 3));
 	if (s.unmeasuredFaces > 0)
 		line += QString(" (%1 input faces not measured)").arg(thousands(s.unmeasuredFaces));
+	if (s.maxTexError >= 0)
+		line += QString("; texture coordinates moved at most %1 (UV units)")
+		            .arg(QString::number(s.maxTexError, 'g', 3));
 	if (s.maxDistance >= 0 && diag > 0)
 		line += QString("; distance bound %1 % of the diagonal (as the tolerance check measures it)")
 		            .arg(QString::number(100.0 * s.maxDistance / diag, 'f', 4));
@@ -226,8 +298,19 @@ void FilterGaussLodPlugin::initParameterSet(QAction *a, MeshModel &m, RichParame
 		for (const gausslod::ParamSpec &s : gausslod::paramSpecs())
 			if (s.inFilter)
 				par.addParam(*richParameter(s, diag));
-		par.addParam(RichBool("colourSuperfaces", true, "Colour faces by superface",
-		                      "Give every superface of an output level its own per-face colour."));
+		par.addParam(RichBool("selectedOnly", false, "Only selected faces",
+		                      "Simplify only the selected faces: unselected faces are kept exactly "
+		                      "as they are, and the border between them and the selection is "
+		                      "kept too (as in MeshLab's quadric edge collapse)."));
+		par.addParam(RichBool(
+		    "colourSuperfaces", true, "Colour faces by superface",
+		    "Give every superface of an output level its own per-face colour, when the input has "
+		    "no colour of its own (no face or vertex colours, no texture coordinates): real "
+		    "colours and textures are kept. See also 'Overwrite real colours'."));
+		par.addParam(RichBool("overwriteColours", false, "Overwrite real colours",
+		                      "With 'Colour faces by superface': colour the superfaces even when "
+		                      "the input has face or vertex colours or a texture (its face "
+		                      "colours are then replaced in the levels; the input is unchanged)."));
 		par.addParam(RichBool(
 		    "fauxEdges", true, "Mark superface interiors as faux edges",
 		    "Mark edges inside a superface as faux, so that MeshLab's polygonal wireframe draws "
@@ -273,15 +356,32 @@ bool FilterGaussLodPlugin::buildGaussSphereLods(MeshDocument &md, const RichPara
 		return false;
 	}
 
-	const gausslod::FlatMesh flat = gausslod::flatten(input->cm);
-	const gausslod::MeshView view = flat.view();
 	FilterRequest req;
 	QString error;
-	const double diag = gausslod::bboxDiagonal(view);
-	if (!readRequest(par, diag, req, error)) {
-		errorMessage = error;
+	{
+		const gausslod::FlatMesh plain = gausslod::flatten(input->cm); // (for the diagonal)
+		if (!readRequest(par, gausslod::bboxDiagonal(plain.view()), req, error)) {
+			errorMessage = error;
+			return false;
+		}
+	}
+	if (req.selectedOnly && vcg::tri::UpdateSelection<CMeshO>::FaceCount(input->cm) == 0) {
+		errorMessage = "'Only selected faces' is on, but no face of the layer is selected.";
 		return false;
 	}
+	const gausslod::MeshAttributes attrs = layerAttributes(*input);
+	QWidget *const gui = mainWindow();
+	const gausslod::FlatMesh flat =
+	    gausslod::flattenWithAttributes(input->cm, attrs, req.params, req.selectedOnly);
+	const gausslod::MeshView view = flat.view();
+	const double diag = gausslod::bboxDiagonal(view);
+	// real colours stay unless asked; superface colours need per-face colour on the layer
+	const bool hasColour = attrs.vertColor || attrs.faceColor || attrs.wedgeTexCoord ||
+	                       attrs.vertTexCoord;
+	const bool superfaceColours = req.colourSuperfaces && (!hasColour || req.overwriteColours);
+	gausslod::MeshAttributes carried = attrs;
+	if (superfaceColours)
+		carried.faceColor = false; // (its colours are replaced)
 
 	const gausslod::Progress progress = [cb](double fraction, const char *stage) {
 		if (cb == nullptr)
@@ -308,10 +408,17 @@ bool FilterGaussLodPlugin::buildGaussSphereLods(MeshDocument &md, const RichPara
 		for (const gausslod::LevelMesh &level : result.levels) {
 			MeshModel *lm = md.addNewMesh("", levelLabel(base, level.stats), true);
 			added << lm;
-			if (req.colourSuperfaces)
-				lm->updateDataMask(MeshModel::MM_FACECOLOR);
-			gausslod::toVcgMesh(level, lm->cm, req.colourSuperfaces, req.fauxEdges);
-			lm->UpdateBoxAndNormals();
+			int mask = superfaceColours || carried.faceColor ? MeshModel::MM_FACECOLOR : 0;
+			mask |= carried.vertColor ? MeshModel::MM_VERTCOLOR : 0;
+			mask |= carried.vertQuality ? MeshModel::MM_VERTQUALITY : 0;
+			mask |= carried.vertTexCoord ? MeshModel::MM_VERTTEXCOORD : 0;
+			mask |= carried.wedgeTexCoord ? MeshModel::MM_WEDGTEXCOORD : 0;
+			if (mask)
+				lm->updateDataMask(mask);
+			gausslod::toVcgMeshWithAttributes(level, flat, input->cm, carried, lm->cm,
+			                                  superfaceColours, req.fauxEdges);
+			levelTextures(*input, lm->cm, gui != nullptr);
+			lm->UpdateBoxAndNormals(); // (per-vertex normals of the new faces, smooth)
 			if (coarsest == nullptr || level.stats.level < coarsestLevel) {
 				coarsest = lm;
 				coarsestLevel = level.stats.level;
@@ -325,13 +432,18 @@ bool FilterGaussLodPlugin::buildGaussSphereLods(MeshDocument &md, const RichPara
 		return false;
 	}
 	md.setCurrent(coarsest);
+	if (gui != nullptr && !input->cm.textures.empty())
+		for (MeshModel *lm : added) // (MeshLab loads the images of the current layer only)
+			QMetaObject::invokeMethod(gui, "updateTexture", Qt::QueuedConnection,
+			                          Q_ARG(int, lm->id()));
 
 	const gausslod::InputStats &in = result.input;
 	if (in.weldedVertices || in.facesSkipped() || in.facesDegenerate || in.verticesLocked)
 		Log(QString("Input repairs (the input layer is unchanged): %1 vertices welded (%2 faces "
 		            "re-indexed); %3 faces skipped (%4 with a repeated vertex, %5 repeating an "
 		            "earlier face); %6 degenerate faces kept as they are; %7 vertices locked "
-		            "(non-manifold or inconsistently oriented edges, non-manifold vertices)")
+		            "(non-manifold or inconsistently oriented edges, non-manifold vertices, "
+		            "unselected faces)")
 		        .arg(thousands(in.weldedVertices))
 		        .arg(thousands(in.facesReindexed))
 		        .arg(thousands(in.facesSkipped()))
@@ -340,6 +452,21 @@ bool FilterGaussLodPlugin::buildGaussSphereLods(MeshDocument &md, const RichPara
 		        .arg(thousands(in.facesDegenerate))
 		        .arg(thousands(in.verticesLocked))
 		        .toStdString());
+	if (req.selectedOnly)
+		Log(QString("Only selected faces: %1 unselected faces kept as they are in every level")
+		        .arg(thousands(in.facesKept))
+		        .toStdString());
+	QStringList textures;
+	for (const std::string &t : input->cm.textures)
+		textures << QString::fromStdString(t);
+	Log(QString("Carried to the levels: %1%2%3")
+	        .arg(carriedText(carried, superfaceColours))
+	        .arg(textures.isEmpty() ? QString() : QString("; textures: %1").arg(textures.join(" | ")))
+	        .arg(attrs.vertColor || attrs.faceColor || attrs.wedgeTexCoord || attrs.vertTexCoord
+	                 ? superfaceColours ? "; real colours replaced by superface colours (asked)"
+	                                    : "; superface colouring off (the layer has its own colours)"
+	                 : "")
+	        .toStdString());
 	for (const gausslod::LevelMesh &level : result.levels)
 		Log(levelLogLine(level.stats, diag).toStdString());
 	Log(QString(
