@@ -81,7 +81,58 @@ for level in 4 3 2 1 0; do
   f=$work/levels/spider_LOD$level.ply
   faces=$( [ -s "$f" ] && element "$f" face)
   check '[ -n "$faces" ] && [ "$faces" -gt 0 ]' "runner: spider_LOD$level.ply has $faces faces"
+  # what the input has, and nothing it lacks (issue 14): texture coordinates, its 5 textures
+  # found from OUTDIR, material colours; no vertex colours
+  check 'header "$f" | grep -q "property list uchar float texcoord"' \
+    "runner: spider_LOD$level.ply keeps per-corner texture coordinates"
+  mapfile -t lt < <(header "$f" | sed -n 's/^comment TextureFile //p' | tr -d '\r')
+  check '[ "${lt[*]}" = "${textures[*]}" ]' "runner: spider_LOD$level.ply names the input's textures"
+  for t in "${lt[@]}"; do
+    check '[ -f "$work/levels/$t" ]' "runner: texture $t of LOD$level found from OUTDIR"
+  done
+  vprops=$(header "$f" | awk '$1 == "element" { e = $2 } e == "vertex" && $1 == "property" { print $NF }' | tr '\n' ' ')
+  check '[ "$vprops" = "x y z " ]' "runner: spider_LOD$level.ply adds no vertex attribute ($vprops)"
+  fprops=$(header "$f" | awk '$1 == "element" { e = $2 } e == "face" && $1 == "property" { print $NF }' | tr '\n' ' ')
+  check '[ "$fprops" = "vertex_indices texcoord texnumber red green blue alpha " ]' \
+    "runner: spider_LOD$level.ply faces: texture coordinates, texture numbers, material colours"
 done
+check 'grep -q "Carried to the levels: wedge texture coordinates, face colour; textures: " "$work/runner.log"' \
+  "runner: says what the levels carry"
+
+# 5b. vertex colours (an OBJ with 'v x y z r g b'): saved, each an input vertex's colour
+GAUSSLOD_MESHLAB_PREFIX=$prefix "$runner" "$objdir/cube_with_vertexcolors.obj" "$work/vc" \
+  >"$work/runner_vc.log" 2>&1
+check '[ $? -eq 0 ]' "runner on cube_with_vertexcolors.obj: exit 0"
+f=$work/vc/cube_with_vertexcolors_LOD0.ply
+vprops=$(header "$f" | awk '$1 == "element" { e = $2 } e == "vertex" && $1 == "property" { print $NF }' | tr '\n' ' ')
+check '[[ "$vprops" == "x y z "*"red green blue alpha " ]]' "runner: vertex colours saved ($vprops)"
+# (VCG's OBJ reader truncates r * 255)
+want=$(awk '$1 == "v" { printf "%d %d %d\n", int($5 * 255), int($6 * 255), int($7 * 255) }' \
+  "$objdir/cube_with_vertexcolors.obj" | sort -u)
+got=$(python3 - "$f" <<'PY' | sort -u
+import re, struct, sys
+d = open(sys.argv[1], 'rb').read()
+end = d.index(b'end_header\n') + len(b'end_header\n')
+head = d[:end].decode('ascii').split('\n')
+assert 'format binary_little_endian 1.0' in head
+n = int(re.search(r'element vertex (\d+)', d[:end].decode()).group(1))
+props, inv = [], False
+for line in head:
+    w = line.split()
+    if w[:1] == ['element']:
+        inv = w[1] == 'vertex'
+    elif inv and w[:1] == ['property']:
+        props.append((w[2], w[1]))
+size = {'float': 4, 'uchar': 1}
+fmt = '<' + ''.join({'float': 'f', 'uchar': 'B'}[t] for _, t in props)
+step = sum(size[t] for _, t in props)
+names = [p for p, _ in props]
+for i in range(n):
+    v = dict(zip(names, struct.unpack_from(fmt, d, end + i * step)))
+    print(v['red'], v['green'], v['blue'])
+PY
+)
+check '[ -n "$got" ] && [ "$got" = "$want" ]' "runner: the level's vertex colours are the file's"
 
 # 6. the runner with a prefix lacking our OBJ plugin: a clear error instead of MeshLab's abort
 mkdir -p "$work/noobj/bin" "$work/noobj/lib/x86_64-linux-gnu/meshlab/plugins"
