@@ -69,7 +69,8 @@ bool triangulateRings(TriangulationJob &job, bool smallRings)
 {
 	job.tris.clear();
 	job.constrained.clear();
-	if (smallRings && triangulateSmallRing(job) == SmallRing::Done)
+	const bool ringsOnly = job.xy.size() / 2 == size_t(job.ringStart.back());
+	if (smallRings && ringsOnly && triangulateSmallRing(job) == SmallRing::Done)
 		return true;
 	job.queryTri.assign(job.queryXY.size() / 2, -1);
 	const size_t n = job.xy.size() / 2;

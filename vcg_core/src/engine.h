@@ -346,11 +346,15 @@ void mergeAcrossCells(const Topology &topo, double boundDeg, Partition &p);
 /// `faceLimit` (the caller then keeps the finer level, which has that many faces).
 void buildLevelGeometry(const Topology &topo, const Params &params,
                         const std::vector<Partition> &finer, Partition &p, LevelMesh &out,
-                        size_t faceLimit);
+                        size_t faceLimit, const std::vector<float> *finerShare = nullptr);
+/// Per input face: the triangles of its superface in `level` (built on partition p) divided by
+/// the superface's faces (the cost of a split into p's superfaces, see insertFarthest).
+void triangleShare(const Partition &p, const LevelMesh &level, std::vector<float> &share);
 
 /// 2.4 Constrained Delaunay triangulation of one superface's projected rings (CGAL).
 struct TriangulationJob {
-	std::vector<double> xy;          ///< 2 per ring vertex, rings concatenated
+	std::vector<double> xy;          ///< 2 per ring vertex, rings concatenated, then 2 per
+	                                 ///< interior point (inserted, not constrained)
 	std::vector<int32_t> ringStart;  ///< ring r = [ringStart[r], ringStart[r+1]) ; size rings+1
 	std::vector<double> queryXY;     ///< points to locate in the result (2 per query)
 	// out

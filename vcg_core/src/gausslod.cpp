@@ -246,6 +246,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 		const double setup = since(t0);
 		res.levels.reserve(size_t(params.maxLevel));
 		LevelMesh finer; // the previous (finer) level
+		std::vector<float> finerShare; // (with the distance tolerance, see triangleShare)
 		for (int level = finest; level >= 0; --level) {
 			const auto tl = std::chrono::steady_clock::now();
 			if (!report(0.05 + 0.95 * double(finest - level) / params.maxLevel, "building level"))
@@ -257,8 +258,12 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			}
 			LevelMesh lm;
 			lm.stats.secondsPartition = since(tl) + (level == finest ? setup : 0.0);
+			const bool share = level < finest && params.maxDistance > 0;
+			if (share)
+				triangleShare(parts[size_t(level) + 1], finer, finerShare);
 			buildLevelGeometry(topo, params, parts, parts[size_t(level)], lm,
-			                   level < finest ? finer.stats.faces : SIZE_MAX);
+			                   level < finest ? finer.stats.faces : SIZE_MAX,
+			                   share ? &finerShare : nullptr);
 			if (level < finest && lm.stats.faces > finer.stats.faces)
 				keepFinerLevel(mesh, level, parts, finer, lm);
 			lm.stats.seconds = since(tl) + (level == finest ? setup : 0.0);

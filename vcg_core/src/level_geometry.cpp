@@ -23,6 +23,7 @@ LevelLimits levelLimits(const Params &prm, double diagonal, int level, bool hasU
 		l.mergeDistance = std::min(l.mergeDistance, 0.5 * l.maxDistance);
 	}
 	l.maxTexError = hasUV ? prm.maxTexError : 0;
+	l.finest = prm.maxLevel - 1;
 	l.devLimitDeg = prm.normalLimit > 0 ? prm.normalLimit * levelBoundDeg(level) : 180.0;
 	return l;
 }
@@ -60,7 +61,8 @@ void findSources(const Topology &t, const Partition &p, const LevelTriangles &lt
 		for (size_t k = 0; k < 3; ++k) {
 			const int32_t v = lt.tris[3 * f + k];
 			int32_t corner = -1;
-			for (int32_t q = t.vfStart[size_t(v)]; q < t.vfStart[size_t(v) + 1] && corner < 0; ++q) {
+			for (int32_t q = t.vfStart[size_t(v)]; q < t.vfStart[size_t(v) + 1] && corner < 0;
+			     ++q) {
 				const int32_t g = t.vfFace[size_t(q)];
 				if (p.label[size_t(g)] != sf)
 					continue;
@@ -99,8 +101,9 @@ private:
 class LevelRounds {
 public:
 	LevelRounds(const Topology &t, const Params &prm, const std::vector<Partition> &finer,
-	            Partition &p, LevelMesh &out, size_t faceLimit)
-	    : t_(t), finer_(finer), p_(p), out_(out), faceLimit_(faceLimit),
+	            Partition &p, LevelMesh &out, size_t faceLimit,
+	            const std::vector<float> *finerShare)
+	    : t_(t), finer_(finer), p_(p), out_(out), faceLimit_(faceLimit), finerShare_(finerShare),
 	      limits_(levelLimits(prm, t.diagonal, p.level, t.UV != nullptr))
 	{
 		fb_.extraLock.assign(t_.nV, 0);
@@ -122,6 +125,7 @@ private:
 	Partition &p_;
 	LevelMesh &out_;
 	const size_t faceLimit_;
+	const std::vector<float> *finerShare_;
 	const LevelLimits limits_;
 	Stopwatch clock_;
 
@@ -145,7 +149,7 @@ private:
 
 	TriangulationInput triangulationInput() const
 	{
-		return TriangulationInput{t_, p_, faces_, borders_, rings_, limits_};
+		return TriangulationInput{t_, p_, faces_, borders_, rings_, limits_, finerShare_};
 	}
 	void buildRound(bool patch);
 	void markDirty(bool patch);
@@ -445,9 +449,23 @@ void LevelRounds::fillStats(size_t fallbacks, size_t vertices)
 
 void buildLevelGeometry(const Topology &topo, const Params &params,
                         const std::vector<Partition> &finer, Partition &p, LevelMesh &out,
-                        size_t faceLimit)
+                        size_t faceLimit, const std::vector<float> *finerShare)
 {
-	LevelRounds(topo, params, finer, p, out, faceLimit).run();
+	LevelRounds(topo, params, finer, p, out, faceLimit, finerShare).run();
+}
+
+void triangleShare(const Partition &p, const LevelMesh &level, std::vector<float> &share)
+{
+	std::vector<int32_t> tris(p.count(), 0), faces(p.count(), 0);
+	for (const int32_t s : level.superface)
+		++tris[size_t(s)];
+	for (const int32_t s : p.label)
+		++faces[size_t(s)];
+	share.resize(p.label.size());
+	for (size_t f = 0; f < share.size(); ++f) {
+		const size_t s = size_t(p.label[f]);
+		share[f] = float(tris[s]) / float(faces[s]);
+	}
 }
 
 } // namespace detail

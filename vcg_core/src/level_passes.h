@@ -23,6 +23,9 @@ constexpr int kMaxRounds = 64;
 // of the tolerances (kTolShift = 2), up to this many times, before its border vertices are locked.
 constexpr int kMaxTolSteps = 2;
 constexpr int kTolShift = 2;
+// With the distance tolerance, a superface failing inside gets inside vertices inserted and is
+// triangulated again, up to this many times, before its fallbacks (superface_triangulation.cpp).
+constexpr int kMaxInsertPasses = 8;
 
 /// The limits of one level, derived once from Params (levelLimits, level_geometry.cpp).
 struct LevelLimits {
@@ -31,6 +34,7 @@ struct LevelLimits {
 	double devLimitDeg = 180; ///< normal-deviation limit of the level; 180 = none
 	double maxDistance = 0;   ///< distance tolerance; 0 = none
 	double maxTexError = 0;   ///< texture-coordinate limit (UV units); 0 = none or no UVs
+	int finest = 0;           ///< the finest level (Params::maxLevel - 1)
 	double exact = 0;         ///< below this, a vertex counts as exactly on its chain
 };
 LevelLimits levelLimits(const Params &params, double diagonal, int level, bool hasUV);
@@ -135,6 +139,11 @@ struct Scratch {
 	std::vector<int32_t> vertQuery;   ///< per input vertex: its query, -1 between superfaces
 	std::vector<int32_t> cornerQuery; ///< per face corner of the superface: its vertex's query
 	std::vector<int32_t> touched;     ///< the vertices given a query (to reset vertQuery)
+	// inside vertices inserted into the current superface's triangulation (insertFarthest)
+	std::vector<int32_t> steiner;
+	std::vector<uint8_t> steinerMark; ///< per input vertex (sized on first use)
+	std::vector<std::pair<double, int32_t>> farthest; ///< per new triangle: (gap, vertex)
+	bool inserted(int32_t v) const { return !steinerMark.empty() && steinerMark[size_t(v)]; }
 };
 
 /// The work of a round cut in chunks of consecutive superfaces of about the same number of
@@ -228,6 +237,9 @@ struct TriangulationInput {
 	const Borders &b;
 	const Rings &rings;
 	const LevelLimits &limits;
+	/// With the distance tolerance, below the finest level: per input face, the finer level's
+	/// triangles per face of its superface there (what a split would cost; see insertFarthest).
+	const std::vector<float> *finerShare;
 };
 /// Re-triangulates superface s into o (or copies its input faces when every vertex is kept) and
 /// checks it; writes the measures of its faces only.

@@ -5,6 +5,8 @@
 // thin parts), and the distance tolerance if set (distance_check.cpp).
 #include "level_passes.h"
 
+#include <stdexcept>
+
 namespace gausslod {
 namespace detail {
 
@@ -243,6 +245,133 @@ bool projectionNormal(const TriangulationInput &in, int32_t s, Vec3 &N, bool &un
 	return true;
 }
 
+// A corner of a face of superface s at vertex v (v is a vertex of one of its faces).
+int32_t cornerAt(const TriangulationInput &in, int32_t s, int32_t v)
+{
+	const Topology &t = in.t;
+	for (int32_t q = t.vfStart[size_t(v)]; q < t.vfStart[size_t(v) + 1]; ++q) {
+		const int32_t f = t.vfFace[size_t(q)];
+		if (in.p.label[size_t(f)] == s)
+			for (int k = 0; k < 3; ++k)
+				if (t.T[3 * f + k] == v)
+					return 3 * f + k;
+	}
+	throw std::logic_error("an inserted vertex is no vertex of its superface");
+}
+
+// The measures of superface s's faces, before they are measured again.
+void resetMeasures(const TriangulationInput &in, int32_t s, FaceMeasures &m)
+{
+	for (int32_t i = in.faces.begin(s); i < in.faces.end(s); ++i) {
+		const size_t f = size_t(in.faces.face[size_t(i)]);
+		m.dev[f] = -1.0f;
+		if (!m.gap.empty())
+			m.gap[f] = 0.0f;
+		if (!m.tex.empty())
+			m.tex[f] = 0.0f;
+	}
+}
+
+// One triangulation of superface s from its kept ring vertices and the inside vertices inserted
+// so far (w.ringVerts after the rings), and its checks. `inside` = the failure is one that
+// inside vertices can fix (an input face deviating or too far, not a border or a fold).
+Failure triangulateAndCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
+                            Scratch &w, ChunkOut &o, FaceMeasures &m, bool &inside)
+{
+	inside = false;
+	if (w.ringVertStart.size() == 2 && w.ringVerts.size() == 3) { // one triangle
+		o.emit(w.ringVerts[0], w.ringVerts[1], w.ringVerts[2], 7, true);
+	} else {
+		projectSuperface(in, s, N, w);
+		if (!triangulateRings(w.job))
+			return Failure::Ring;
+		for (size_t k = 0; k < w.job.tris.size(); k += 3)
+			o.emit(w.ringVerts[size_t(w.job.tris[k])], w.ringVerts[size_t(w.job.tris[k + 1])],
+			       w.ringVerts[size_t(w.job.tris[k + 2])], w.job.constrained[k / 3], true);
+	}
+	if (!triangleFrames(in.t, o, firstTri, w))
+		return Failure::Ring;
+	if (!deviationWithinLimit(in, s, o.tris.size() / 3 - firstTri, w, m)) {
+		inside = true;
+		return Failure::Deviation;
+	}
+	if (in.limits.maxDistance > 0) {
+		const Failure far = distanceCheck(in, s, N, firstTri, w, o, m.gap);
+		inside = far == Failure::Distance;
+		if (far != Failure::None)
+			return far;
+	}
+	if (in.limits.maxTexError > 0) {
+		const Failure stretched = textureCheck(in, s, firstTri, w, o, m.tex);
+		inside = stretched == Failure::Distance;
+		if (stretched != Failure::None)
+			return stretched;
+	}
+	if (!uncoveredFacing(in, s, o, firstTri, w) || !nearestSurfaceFacing(in.t, w))
+		return Failure::Ring;
+	return Failure::None;
+}
+
+// Beyond the paper (with the distance tolerance): a superface that fails inside is given, for
+// each of its new triangles, the removed inside vertex farthest from it along N (if farther than
+// half the tolerance) as a vertex of its next triangulation, instead of being split: output
+// vertices stay input vertices, and a curved superface keeps its extent. False if none is.
+bool insertFarthest(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
+                    Scratch &w, const ChunkOut &o)
+{
+	const Topology &t = in.t;
+	const size_t ntri = o.tris.size() / 3 - firstTri;
+	if (!(in.limits.maxDistance > 0) || ntri < 2 || w.cornerQuery.empty())
+		return false; // (one triangle: no vertex was located)
+	const int32_t fb = in.faces.begin(s);
+	const size_t faces = size_t(in.faces.end(s) - fb);
+	// what the split would give: the finer level's triangles over these faces (at the finest
+	// level, the input faces)
+	double split = double(faces);
+	const int origin = in.p.origin[size_t(s)];
+	if (in.finerShare && !(origin == -1 || origin >= in.limits.finest)) {
+		split = 0;
+		for (size_t i = 0; i < faces; ++i)
+			split += double((*in.finerShare)[size_t(in.faces.face[size_t(fb) + i])]);
+	}
+	w.farthest.assign(ntri, std::make_pair(in.limits.maxDistance, int32_t(-1)));
+	for (size_t i = 0; i < faces; ++i)
+		for (int c = 0; c < 3; ++c) {
+			const int32_t v = t.T[3 * in.faces.face[size_t(fb) + i] + c];
+			if (in.b.keep[size_t(v)] || in.b.degree[size_t(v)] > 0 || w.inserted(v))
+				continue;
+			const int32_t k = w.job.queryTri[faces + size_t(w.cornerQuery[3 * i + size_t(c)])];
+			if (k < 0)
+				continue;
+			const Vec3 &n = w.triNormal[size_t(k)];
+			const Vec3 q = t.pos(o.tris[3 * (firstTri + size_t(k))]);
+			const double gap = std::fabs((t.pos(v) - q).dot(n) / n.dot(N));
+			auto &best = w.farthest[size_t(k)];
+			if (gap > best.first || (gap == best.first && best.second >= 0 && v < best.second))
+				best = std::make_pair(gap, v);
+		}
+	const size_t before = w.ringVerts.size();
+	for (const auto &best : w.farthest) {
+		const int32_t v = best.second;
+		if (v < 0 || w.inserted(v))
+			continue;
+		// (each inserted vertex adds about two triangles)
+		if (double(ntri + 2 * (w.ringVerts.size() - before + 1)) >= split)
+			return false; // a split is likely cheaper
+		if (w.steinerMark.size() != t.nV)
+			w.steinerMark.assign(t.nV, 0);
+		w.steinerMark[size_t(v)] = 1;
+		w.ringVerts.push_back(v);
+		w.steiner.push_back(v);
+		if (in.limits.maxTexError > 0) { // (its texture coordinates: a corner of the superface)
+			const int32_t corner = cornerAt(in, s, v);
+			w.ringUV.push_back(t.UV[2 * size_t(corner)]);
+			w.ringUV.push_back(t.UV[2 * size_t(corner) + 1]);
+		}
+	}
+	return w.ringVerts.size() > before;
+}
+
 } // namespace
 
 Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, ChunkOut &o,
@@ -260,37 +389,24 @@ Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, Chunk
 		copyInputFaces(in, s, false, o, m);
 		return Failure::None;
 	}
+	for (const int32_t v : w.steiner) // (the previous superface's)
+		w.steinerMark[size_t(v)] = 0;
+	w.steiner.clear();
 	if (!keptRingVertices(in, s, w))
 		return Failure::Ring;
 	const size_t firstTri = o.tris.size() / 3;
-	if (w.ringVertStart.size() == 2 && w.ringVerts.size() == 3) { // one triangle
-		o.emit(w.ringVerts[0], w.ringVerts[1], w.ringVerts[2], 7, true);
-	} else {
-		projectSuperface(in, s, N, w);
-		if (!triangulateRings(w.job))
-			return Failure::Ring;
-		for (size_t k = 0; k < w.job.tris.size(); k += 3)
-			o.emit(w.ringVerts[size_t(w.job.tris[k])], w.ringVerts[size_t(w.job.tris[k + 1])],
-			       w.ringVerts[size_t(w.job.tris[k + 2])], w.job.constrained[k / 3], true);
+	for (int pass = 0;; ++pass) {
+		bool inside = false; // the failure is one inside vertices can fix
+		const Failure f = triangulateAndCheck(in, s, N, firstTri, w, o, m, inside);
+		if (f == Failure::None) {
+			++o.retriangulated;
+			return f;
+		}
+		if (!inside || pass == kMaxInsertPasses || !insertFarthest(in, s, N, firstTri, w, o))
+			return f;
+		o.truncate(firstTri);
+		resetMeasures(in, s, m);
 	}
-	if (!triangleFrames(in.t, o, firstTri, w))
-		return Failure::Ring;
-	if (!deviationWithinLimit(in, s, o.tris.size() / 3 - firstTri, w, m))
-		return Failure::Deviation;
-	if (in.limits.maxDistance > 0) {
-		const Failure far = distanceCheck(in, s, N, firstTri, w, o, m.gap);
-		if (far != Failure::None)
-			return far;
-	}
-	if (in.limits.maxTexError > 0) {
-		const Failure stretched = textureCheck(in, s, firstTri, w, o, m.tex);
-		if (stretched != Failure::None)
-			return stretched;
-	}
-	if (!uncoveredFacing(in, s, o, firstTri, w) || !nearestSurfaceFacing(in.t, w))
-		return Failure::Ring;
-	++o.retriangulated;
-	return Failure::None;
 }
 
 } // namespace detail
