@@ -1,0 +1,84 @@
+// Beyond the paper (issue 17): with the distance tolerance, a curved superface gets inside vertices
+// inserted where its triangulation is too far from the input, instead of being split back into
+// finer superfaces; every input vertex stays within the tolerance of its level.
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+using namespace gausslod;
+using namespace testmesh;
+
+namespace {
+
+// A dome z = h (1 - x^2 - y^2) over an n x n grid of [-1,1]^2: a height field, curved everywhere.
+FlatMesh dome(int n, double h)
+{
+	FlatMesh m = gridWithHole(n, 0, 0);
+	for (size_t v = 0; v < m.positions.size() / 3; ++v) {
+		double *p = &m.positions[3 * v];
+		p[0] = 2 * p[0] - 1, p[1] = 2 * p[1] - 1;
+		p[2] = h * (1 - p[0] * p[0] - p[1] * p[1]);
+	}
+	return m;
+}
+
+// The largest distance from an input vertex to the level (brute force over its triangles).
+double farthestInputVertex(const FlatMesh &m, const LevelMesh &lm)
+{
+	double worst = 0;
+	for (size_t v = 0; v < m.positions.size() / 3; ++v) {
+		const Vec3 p = vpos(m.positions, int32_t(v));
+		double best = HUGE_VAL;
+		for (size_t f = 0; f < lm.triangles.size() / 3; ++f) {
+			const vcg::Triangle3<double> t(vpos(lm.positions, lm.triangles[3 * f]),
+			                               vpos(lm.positions, lm.triangles[3 * f + 1]),
+			                               vpos(lm.positions, lm.triangles[3 * f + 2]));
+			double d;
+			Vec3 q;
+			vcg::TrianglePointDistance(t, p, d, q);
+			best = std::min(best, d);
+		}
+		worst = std::max(worst, best);
+	}
+	return worst;
+}
+
+// Output vertices with no superface border edge: only inserted inside vertices can be such.
+size_t insideVertices(const LevelMesh &lm)
+{
+	std::vector<uint8_t> onBorder(lm.positions.size() / 3, 0);
+	for (size_t f = 0; f < lm.triangles.size() / 3; ++f)
+		for (size_t k = 0; k < 3; ++k)
+			if (lm.borderEdges[f] & (1u << k)) {
+				onBorder[size_t(lm.triangles[3 * f + k])] = 1;
+				onBorder[size_t(lm.triangles[3 * f + (k + 1) % 3])] = 1;
+			}
+	size_t n = 0;
+	for (uint8_t b : onBorder)
+		n += !b;
+	return n;
+}
+
+} // namespace
+
+TEST(Quality, a_curved_superface_gets_inside_vertices_and_stays_within_the_tolerance)
+{
+	const FlatMesh m = dome(40, 0.15);
+	const double diag = bboxDiagonal(m.view());
+	Params prm;
+	prm.maxDistance = 0.002; // 0.2 % of the diagonal
+	const Result r = buildLevels(m.view(), prm);
+	ASSERT_TRUE(r.ok) << r.error;
+	const LevelMesh &coarsest = r.levels.back();
+	EXPECT_LE(farthestInputVertex(m, coarsest), prm.maxDistance * diag * (1 + 1e-9));
+	EXPECT_GT(insideVertices(coarsest), 0u); // (the paper's rings alone have none)
+	EXPECT_LT(coarsest.stats.faces, m.triangles.size() / 3 / 4);
+	for (const LevelMesh &lm : r.levels)
+		EXPECT_LE(farthestInputVertex(m, lm), prm.maxDistance * diag * (1 + 1e-9))
+		    << "LOD" << lm.stats.level;
+	// without the tolerance there is nothing to insert for
+	const Result plain = buildLevels(m.view(), Params());
+	ASSERT_TRUE(plain.ok);
+	for (const LevelMesh &lm : plain.levels)
+		EXPECT_EQ(insideVertices(lm), 0u);
+}
