@@ -117,7 +117,7 @@ TEST(Attributes, faces_of_different_keys_never_share_a_superface_at_any_level)
 			lo = std::min(lo, centroidX(m, f)), hi = std::max(hi, centroidX(m, f));
 		for (size_t f = 0; f < key.size(); ++f)
 			key[f] = uint32_t(3.0 * (centroidX(m, f) - lo) / (hi - lo + 1e-9));
-		const Result r = buildLevels(withKeys(m, &key, nullptr), Params());
+		const Result r = buildLevels(withKeys(m, &key, nullptr), paperParams());
 		expectSourcesAndKeys(m, r, key);
 		EXPECT_LT(r.levels.back().stats.faces, m.triangles.size() / 3 / 2); // still simplified
 	}

@@ -60,8 +60,8 @@ TEST(InputRepair, a_triangle_soup_gives_the_levels_of_its_welded_mesh)
 		SCOPED_TRACE(name);
 		const FlatMesh soup = soupOf(loadOff(name));
 		const FlatMesh welded = compactWelded(soup);
-		const Result a = buildLevels(soup.view(), Params());
-		const Result b = buildLevels(welded.view(), Params());
+		const Result a = buildLevels(soup.view(), paperParams());
+		const Result b = buildLevels(welded.view(), paperParams());
 		ASSERT_TRUE(a.ok) << a.error;
 		ASSERT_TRUE(b.ok) << b.error;
 		EXPECT_EQ(a.input.weldedVertices, soup.positions.size() / 3 - welded.positions.size() / 3);

@@ -34,8 +34,17 @@ class TMesh : public vcg::tri::TriMesh<std::vector<TVertex>, std::vector<TFace>>
 inline gausslod::Params exactParams()
 {
 	gausslod::Params p;
+	p.maxDistance = 0;
 	p.straightenTol = 0;
 	p.mergeDist = 0;
+	return p;
+}
+
+/// The filter's defaults without the distance tolerance: normals alone decide, as in the paper.
+inline gausslod::Params paperParams()
+{
+	gausslod::Params p;
+	p.maxDistance = 0;
 	return p;
 }
 

@@ -66,7 +66,8 @@ TEST(Quality, a_curved_superface_gets_inside_vertices_and_stays_within_the_toler
 	const FlatMesh m = dome(40, 0.15);
 	const double diag = bboxDiagonal(m.view());
 	Params prm;
-	prm.maxDistance = 0.002; // 0.2 % of the diagonal
+	prm.maxDistance = 0.002; // 0.2 % of the diagonal, at every level
+	prm.distanceGrowth = 1;
 	const Result r = buildLevels(m.view(), prm);
 	ASSERT_TRUE(r.ok) << r.error;
 	const LevelMesh &coarsest = r.levels.back();
@@ -77,8 +78,42 @@ TEST(Quality, a_curved_superface_gets_inside_vertices_and_stays_within_the_toler
 		EXPECT_LE(farthestInputVertex(m, lm), prm.maxDistance * diag * (1 + 1e-9))
 		    << "LOD" << lm.stats.level;
 	// without the tolerance there is nothing to insert for
-	const Result plain = buildLevels(m.view(), Params());
+	Params normalsOnly;
+	normalsOnly.maxDistance = 0;
+	const Result plain = buildLevels(m.view(), normalsOnly);
 	ASSERT_TRUE(plain.ok);
 	for (const LevelMesh &lm : plain.levels)
 		EXPECT_EQ(insideVertices(lm), 0u);
+}
+
+TEST(Quality, the_default_tolerance_grows_by_level_and_coarser_levels_stay_coarser)
+{
+	for (const char *name : {"fandisk.off", "cow.off"}) {
+		SCOPED_TRACE(name);
+		const FlatMesh m = loadOff(name);
+		const double diag = bboxDiagonal(m.view());
+		const Params prm; // 0.02 % at the finest level, x2 per coarser level
+		ASSERT_GT(prm.maxDistance, 0);
+		const Result r = buildLevels(m.view(), prm);
+		ASSERT_TRUE(r.ok) << r.error;
+		Params normalsOnly;
+		normalsOnly.maxDistance = 0;
+		const Result paper = buildLevels(m.view(), normalsOnly);
+		ASSERT_TRUE(paper.ok);
+		size_t finer = m.triangles.size() / 3;
+		for (size_t i = 0; i < r.levels.size(); ++i) {
+			const LevelMesh &lm = r.levels[i];
+			SCOPED_TRACE("LOD" + std::to_string(lm.stats.level));
+			const double tol = prm.maxDistance * diag *
+			                   std::pow(prm.distanceGrowth, prm.maxLevel - 1 - lm.stats.level);
+			EXPECT_LE(lm.stats.maxDistance, tol * (1 + 1e-6));
+			EXPECT_LE(farthestInputVertex(m, lm), tol * (1 + 1e-6));
+			EXPECT_LE(lm.stats.faces, finer);
+			finer = lm.stats.faces;
+			// (the test can fail: the paper's levels are farther than that)
+			if (lm.stats.level == 0)
+				EXPECT_GT(farthestInputVertex(m, paper.levels[i]), 2 * tol);
+		}
+		EXPECT_LT(r.levels.back().stats.faces, m.triangles.size() / 3 * 3 / 4);
+	}
 }

@@ -339,7 +339,7 @@ TEST(LevelGeometry, a_level_over_its_face_limit_is_abandoned_after_the_round_tha
 	// fandisk's finest level needs a second round (superfaces split into their faces); with a
 	// face limit below what the first round already has, the build stops there without a mesh
 	const FlatMesh m = loadOff("fandisk.off");
-	const Params prm;
+	const Params prm = paperParams();
 	detail::Topology topo;
 	detail::buildTopology(m.view(), prm.featureAngle, topo);
 	const int finest = prm.maxLevel - 1;
@@ -397,8 +397,10 @@ TEST(DistanceTolerance, no_input_vertex_ends_farther_than_the_tolerance_from_any
 	const FlatMesh m = grid(40, [](double x, double y) { return Vec3(x, y, 0.3 * (x * x + y * y)); });
 	const double diag = bboxDiagonal(m.view());
 	Params free;
+	free.maxDistance = 0; // (the paper: normals only)
 	Params bounded = free;
-	bounded.maxDistance = 0.002; // of the diagonal
+	bounded.maxDistance = 0.002; // of the diagonal, at every level
+	bounded.distanceGrowth = 1;
 	const double tol = bounded.maxDistance * diag;
 	const Result a = buildLevels(m.view(), free), b = buildLevels(m.view(), bounded);
 	ASSERT_TRUE(a.ok && b.ok);

@@ -19,7 +19,7 @@ TEST_F(GaussLodPlugin, declares_itself_as_a_single_mesh_remeshing_filter)
 	const RichParameterList par = defaults(md);
 	const QStringList expected = {
 	    "maxLevel",     "outputLevels",  "featureAngle",     "straightenTol",    "mergeDist",
-	    "maxDistance",  "normalLimit",   "acrossCells",      "weldVertices",     "weldDistance",
+	    "maxDistance",  "distanceGrowth", "normalLimit",   "acrossCells",      "weldVertices",     "weldDistance",
 	    "keepMaterials", "keepSeams",    "maxTexError",      "selectedOnly",     "colourSuperfaces",
 	    "overwriteColours", "fauxEdges"};
 	EXPECT_EQ(par.size(), unsigned(expected.size()));
@@ -31,7 +31,8 @@ TEST_F(GaussLodPlugin, declares_itself_as_a_single_mesh_remeshing_filter)
 	const float diag = md.mm()->cm.bbox.Diag();
 	EXPECT_NEAR(par.getAbsPerc("straightenTol"), 0.005f * diag, 1e-6f * diag);
 	EXPECT_NEAR(par.getAbsPerc("mergeDist"), 0.0025f * diag, 1e-6f * diag);
-	EXPECT_EQ(par.getAbsPerc("maxDistance"), 0.0f);
+	EXPECT_NEAR(par.getAbsPerc("maxDistance"), 0.0002f * diag, 1e-6f * diag);
+	EXPECT_FLOAT_EQ(par.getFloat("distanceGrowth"), 2.0f);
 	EXPECT_FLOAT_EQ(par.getFloat("normalLimit"), 1.0f);
 	EXPECT_TRUE(par.getBool("acrossCells"));
 	EXPECT_TRUE(par.getBool("colourSuperfaces"));

@@ -82,13 +82,19 @@ struct Params {
 	/// vertices closer than this merge (less important into more important; corners only
 	/// receive). 0 = no merging.
 	double mergeDist = 0.0025;
-	/// Beyond the paper: distance tolerance, fraction of the diagonal. A superface is refused
-	/// (retried with tighter borders, then split into finer ones) if an input vertex it removes is
-	/// farther than this from the output: a removed border vertex from its straightened chain, a
-	/// removed interior vertex from the plane of the output triangle over a face it belongs to.
-	/// Caps straightenTol at this value and mergeDist at half of it.
-	/// 0 = no distance limit (the paper: only normals decide).
-	double maxDistance = 0.0;
+	/// Beyond the paper: distance tolerance of the finest level, fraction of the diagonal; each
+	/// coarser level's is distanceGrowth times its finer level's. A superface is refused
+	/// (inside vertices inserted, retried with tighter borders, then split into finer ones) if
+	/// an input vertex it removes is farther than its level's tolerance from the output: a
+	/// removed border vertex from its straightened chain, a removed interior vertex from the
+	/// plane of the output triangle over a face it belongs to. Caps straightenTol at the level's
+	/// tolerance and mergeDist at half of it. 0 = no distance limit (the paper: only normals
+	/// decide). Default 0.02 %: measured against CGAL's Garland-Heckbert edge collapse at equal
+	/// face counts, the levels' Hausdorff distance is about 2.3x closer to it than with no limit.
+	double maxDistance = 0.0002;
+	/// The distance tolerance of level i is maxDistance * distanceGrowth^(maxLevel - 1 - i), so
+	/// that coarser levels still get coarser (default 2: 0.02 % at LOD4 ... 0.32 % at LOD0).
+	double distanceGrowth = 2.0;
 	/// Normal-deviation limit, as a multiple of the level's bound sqrt(2)*90/3^i degrees: a
 	/// superface whose re-triangulation leaves an input face farther than this from the output
 	/// triangle covering it is retried with tighter straightening and merging (twice), then with

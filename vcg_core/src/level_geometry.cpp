@@ -5,6 +5,7 @@
 #include "level_passes.h"
 
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 
 namespace gausslod {
@@ -17,7 +18,8 @@ LevelLimits levelLimits(const Params &prm, double diagonal, int level, bool hasU
 	l.exact = 1e-9 * diagonal;
 	l.tolerance = std::max(prm.straightenTol * diagonal, l.exact);
 	l.mergeDistance = prm.mergeDist * diagonal;
-	l.maxDistance = prm.maxDistance * diagonal;
+	l.maxDistance =
+	    prm.maxDistance * diagonal * std::pow(prm.distanceGrowth, prm.maxLevel - 1 - level);
 	if (l.maxDistance > 0) {
 		l.tolerance = std::min(l.tolerance, std::max(l.maxDistance, l.exact));
 		l.mergeDistance = std::min(l.mergeDistance, 0.5 * l.maxDistance);

@@ -66,16 +66,24 @@ std::vector<Entry> makeEntries()
 	      "what is kept.",
 	      d.mergeDist, 0, 1, false, true},
 	     &Params::mergeDist},
-	    {{"maxDistance", K::DiagonalFraction, "Distance tolerance",
-	      "distance tolerance, % of bbox diagonal; 0 = none",
+	    {{"maxDistance", K::DiagonalFraction, "Distance tolerance (finest level)",
+	      "distance tolerance of the finest level, % of bbox diagonal; 0 = none",
 	      "Beyond the paper: distance in mesh units (the percentage is of the bounding-box "
-	      "diagonal) that no removed input vertex may end farther than from the output. A "
-	      "superface that would is retried with tighter borders, then split into finer "
-	      "superfaces; it also caps the straightening tolerance (and the merge distance at "
-	      "half of it). Coarse levels then keep more faces on curved parts. 0 = no distance "
-	      "limit (default: only normals decide, as in the paper).",
+	      "diagonal) that no removed input vertex may end farther than from the finest level; "
+	      "each coarser level allows 'Distance growth' times more. A superface that would "
+	      "gets input vertices inside it kept where it curves, else is retried with tighter "
+	      "borders, then split; the tolerance also caps the straightening tolerance (and the "
+	      "merge distance at half of it). Default 0.02 % (0.32 % at LOD0 of 5): curved parts "
+	      "keep their shape. 0 = no distance limit (only normals decide, as in the paper).",
 	      d.maxDistance, 0, 1, false, true},
 	     &Params::maxDistance},
+	    {{"distanceGrowth", K::Real, "Distance growth per level",
+	      "distance tolerance factor per coarser level",
+	      "The distance tolerance of each level is this many times that of the next finer "
+	      "level (default 2), so that coarser levels still get coarser. 1 = the same "
+	      "tolerance at every level.",
+	      d.distanceGrowth, 1, 1000, false, true},
+	     &Params::distanceGrowth},
 	    {{"normalLimit", K::Real, "Normal deviation limit (x level bound)",
 	      "normal deviation limit, x each level's bound; 0 = none",
 	      "Guarantee on the result, as a multiple of each level's bound sqrt(2)*90/3^i deg: "
