@@ -531,6 +531,7 @@ struct ObjScan {
 	std::vector<int> tri;           // the triangles VCG should build (fan of each face line)
 	std::vector<unsigned char> faux; // per triangle: bit k set if edge k is inside a polygon
 	long long vertices = 0;
+	bool vertexColours = false; // a vertex line with colours ('v x y z r g b')
 };
 
 /// A material file VCG will open (relative to the working directory, the OBJ's folder while it is
@@ -663,6 +664,7 @@ inline bool scanObj(FILE *f, const std::string &path, uint64_t size, double vert
 				if (!parseNumber(w[j].b, w[j].e))
 					return corrupt(e, at() + quote(w[j].b, w[j].e) + " is not a number");
 			if (w.size() >= 7) { // colours, scaled as VCG does (import_obj.h:309-315)
+				out.vertexColours = true;
 				float c[3];
 				for (int j = 0; j < 3; ++j)
 					c[j] = parseNumber(w[4 + j].b, w[4 + j].e)
@@ -1371,6 +1373,11 @@ bool checkFile(const std::string &path, double vb, double fb, CheckedFile &c, Re
 	if (!vcg::tri::io::ImporterOBJ<MeshT>::LoadMask(c.vcgPath.c_str(), oi))
 		return corrupt(e, "OBJ: cannot read the file");
 	c.facts.mask = oi.mask;
+	// LoadMask takes vertex colours from blanks in the first 'v' line (import_obj.h:934): six
+	// blanks around three coordinates are not colours, and the importer would give every vertex
+	// its default grey
+	if (!c.obj.vertexColours)
+		c.facts.mask &= ~int(Mask::IOM_VERTCOLOR);
 	return true;
 }
 
@@ -1402,6 +1409,7 @@ bool readChecked(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info)
 			return corrupt(e, std::string("OFF: ") + Off::ErrorMsg(r));
 	} else {
 		using Obj = vcg::tri::io::ImporterOBJ<MeshT>;
+		const ObjScan &scan = c.obj;
 		const int r = Obj::Open(m, path.c_str(), mask);
 		// its material attributes would leak (TriMesh's destructor does not free attributes):
 		// copied for `info`, then deleted
@@ -1422,9 +1430,10 @@ bool readChecked(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info)
 		vcg::tri::Allocator<MeshT>::DeletePerFaceAttribute(m, "materialIndex");
 		if (r != 0 && Obj::ErrorCritical(r))
 			return corrupt(e, std::string("OBJ: ") + Obj::ErrorMsg(r));
+		if (!scan.vertexColours) // (see checkFile: no vertex line has colours)
+			mask &= ~int(vcg::tri::io::Mask::IOM_VERTCOLOR);
 		// VCG 2020.09 drops every face using vertex 1 (unless obj_import.h fixed it for this
 		// mesh type): rebuild the faces from the scan
-		const ObjScan &scan = c.obj;
 		const size_t nt = scan.faux.size();
 		if (!obj::IndexFixFor<MeshT>::value && size_t(m.fn) != nt &&
 		    m.vert.size() == size_t(scan.vertices)) {
