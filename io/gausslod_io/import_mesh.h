@@ -978,7 +978,7 @@ inline bool checkPly(const std::string &path, FILE *f, uint64_t size, double ver
 	const double body = double(size) - double(h.dataOffset);
 	if (minBytes > body + (ascii ? 1 : 0))
 		return lyingCounts(e, (unsigned long long)nv, (unsigned long long)nf, "faces", size);
-	facts.vertices = double(nv) * (1 + sizeof(void *) / vertexBytes); // (VCG's index table)
+	facts.vertices = double(nv);
 	facts.faces = double(nf);
 	if (!checkMemory(double(nv) * (vertexBytes + sizeof(void *)) + double(nf) * faceBytes, e))
 		return false;
@@ -1524,7 +1524,10 @@ bool importMeshEither(LeanT &lean, FullT &full, bool &usedFull, const std::strin
 			return detail::readChecked(lean, c, error, info);
 		using FV = typename FullT::VertexType;
 		using FF = typename FullT::FaceType;
-		if (!detail::checkMemory(c.facts.vertices * sizeof(FV) + c.facts.faces * sizeof(FF), error))
+		// (with a pointer per vertex for the index table VCG's PLY importer builds)
+		if (!detail::checkMemory(c.facts.vertices * (sizeof(FV) + sizeof(void *)) +
+		                             c.facts.faces * sizeof(FF),
+		                         error))
 			return false;
 		usedFull = true;
 		return detail::readChecked(full, c, error, info);

@@ -71,6 +71,8 @@ def main():
                     help="levels name textures, each an existing file among the input's")
     ap.add_argument("--materials", action="store_true",
                     help="each level has a material file and re-opens with materials")
+    ap.add_argument("--recomputed-normals", type=int, default=0,
+                    help="each level has more distinct vertex normals than this")
     ap.add_argument("--simplifies", action="store_true", help="the coarsest level has fewer faces")
     ap.add_argument("--max-tex-error", type=float, help="every level's max_tex_error <= this")
     a = ap.parse_args()
@@ -128,6 +130,10 @@ def main():
             check(not miss, f"{lv}: every vertex quality is an input vertex's")
         if "vertex_normal" in out["attributes"]:
             check(out["normal_length_error"] < 1e-3, f"{lv}: vertex normals of unit length")
+        if a.recomputed_normals:
+            check(out["distinct_normals"] > a.recomputed_normals,
+                  f"{lv}: normals recomputed ({out['distinct_normals']} distinct, input "
+                  f"{inp['distinct_normals']})")
         if a.materials or a.textures:
             # every face's material (colour and texture file) is one an input face has
             in_folder_of = lambda t: resolve(in_folder, t) if t else ""

@@ -74,6 +74,7 @@ int main(int argc, char **argv)
 	std::set<std::pair<std::tuple<int, int, int, int>, std::string>> faceMaterials;
 	std::set<float> quality;
 	double normalError = 0;
+	std::set<std::tuple<float, float, float>> normals;
 	for (const auto &v : m.vert) {
 		if (v.IsD())
 			continue;
@@ -83,8 +84,10 @@ int main(int argc, char **argv)
 			vertexUV.emplace(v.cT().u(), v.cT().v(), 0);
 		if (mask & Mask::IOM_VERTQUALITY)
 			quality.insert(v.cQ());
-		if (mask & Mask::IOM_VERTNORMAL)
+		if (mask & Mask::IOM_VERTNORMAL) {
 			normalError = std::max(normalError, std::fabs(double(v.cN().Norm()) - 1.0));
+			normals.emplace(v.cN()[0], v.cN()[1], v.cN()[2]);
+		}
 	}
 	for (const auto &f : m.face) {
 		if (f.IsD())
@@ -128,13 +131,13 @@ int main(int argc, char **argv)
 	std::printf("{\"ok\":true,\"vertices\":%d,\"faces\":%d,\"attributes\":%s,\"textures\":%s,"
 	            "\"materials\":%zu,\"material_textures\":%s,\"face_colours\":%s,"
 	            "\"vertex_colours\":%s,\"wedge_uvs\":%s,\"vertex_uvs\":%s,\"texture_indices\":%s,"
-	            "\"qualities\":%s,\"normal_length_error\":%.3g,\"face_materials\":%s}\n",
+	            "\"qualities\":%s,\"normal_length_error\":%.3g,\"distinct_normals\":%zu,\"face_materials\":%s}\n",
 	            m.vn, m.fn, attributes.c_str(), list(m.textures, str).c_str(), info.materials.size(),
 	            list(mapKd, str).c_str(), list(faceColours, colour).c_str(),
 	            list(vertexColours, colour).c_str(), list(wedgeUV, uv).c_str(),
 	            list(vertexUV, uv).c_str(),
 	            list(texIndex, [](int i) { return std::to_string(i); }).c_str(),
-	            list(quality, qual).c_str(), normalError,
+	            list(quality, qual).c_str(), normalError, normals.size(),
 	            list(faceMaterials, [](const std::pair<std::tuple<int, int, int, int>, std::string> &fm) {
 		            return "[" + colour(fm.first) + "," + str(fm.second) + "]";
 	            }).c_str());

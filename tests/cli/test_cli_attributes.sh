@@ -139,6 +139,22 @@ run cow_ply --format ply "$data/cow.off" "$work/cow_ply" &&
 run cube_ply "$ply/cube.ply" "$work/cube_ply" &&
   lean_ply "$work"/cube_ply/cube_LOD*.ply && pass "cube.ply: PLY levels in the lean writer's layout" ||
   fail "cube.ply: levels not in the lean writer's layout"
+# per-vertex normals alone (a copy of the cow with normals, made here): the lean reader, normals
+# recomputed for each level's faces, superfaces coloured
+python3 - "$data/cow.off" "$work/in/cow_normals.ply" <<'PY'
+import sys
+words = [l.split() for l in open(sys.argv[1]) if l.strip() and not l.startswith('#')]
+nv, nf = int(words[1][0]), int(words[1][1])
+with open(sys.argv[2], 'w') as f:
+    f.write('ply\nformat ascii 1.0\nelement vertex %d\n' % nv + ''.join(
+        'property float %s\n' % p for p in ('x', 'y', 'z', 'nx', 'ny', 'nz')) +
+        'element face %d\nproperty list uchar int vertex_indices\nend_header\n' % nf)
+    f.writelines(' '.join(w[:3]) + ' 0 0 1\n' for w in words[2:2 + nv])
+    f.writelines(' '.join(w[:4]) + '\n' for w in words[2 + nv:2 + nv + nf])
+PY
+run cow_normals "$work/in/cow_normals.ply" "$work/cow_normals" &&
+  levels cow_normals "$work/in/cow_normals.ply" --format ply --attributes vertex_normal \
+    --has vertex_normal,face_colour --superface-colours yes --recomputed-normals 100 --simplifies
 run cow_nocolour --no-colour "$data/cow.off" "$work/cow_nocolour" &&
   levels cow_nocolour "$data/cow.off" --superface-colours no --lacks face_colour
 run stl "$models/STL/Wuson.stl" "$work/stl" && levels stl "$models/STL/Wuson.stl" --format stl --simplifies
