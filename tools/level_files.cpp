@@ -44,10 +44,7 @@ vcg::Color4b objColour(const Material &m)
 
 // A material value that VCG's OBJ importer reads back as the byte c: the middle of c's interval
 // (c/255 written with 6 decimals would be read back as c-1 for about half of the bytes).
-float objValue(unsigned char c)
-{
-	return c == 255 ? 1.0f : (float(c) + 0.5f) / 255.0f;
-}
+float objValue(unsigned char c) { return c == 255 ? 1.0f : (float(c) + 0.5f) / 255.0f; }
 
 bool removeTree(const std::string &path)
 {
@@ -131,10 +128,11 @@ LevelWriter::LevelWriter(const InputMesh &in, const Options &o, const std::strin
 	if (in.mesh && uv)
 		for (const std::string &t : in.mesh->textures)
 			textures_.push_back(gausslod::textureNameFrom(outdir, in.folder, t));
-	const std::pair<int, const char *> names[] = {
-	    {Mask::IOM_VERTNORMAL, "vertex_normal"}, {Mask::IOM_VERTCOLOR, "vertex_colour"},
-	    {Mask::IOM_VERTQUALITY, "vertex_quality"}, {Mask::IOM_VERTTEXCOORD, "vertex_uv"},
-	    {Mask::IOM_WEDGTEXCOORD, "wedge_uv"}};
+	const std::pair<int, const char *> names[] = {{Mask::IOM_VERTNORMAL, "vertex_normal"},
+	                                              {Mask::IOM_VERTCOLOR, "vertex_colour"},
+	                                              {Mask::IOM_VERTQUALITY, "vertex_quality"},
+	                                              {Mask::IOM_VERTTEXCOORD, "vertex_uv"},
+	                                              {Mask::IOM_WEDGTEXCOORD, "wedge_uv"}};
 	for (const auto &n : names)
 		if (mask_ & n.first)
 			attributes_.push_back(n.second);
@@ -197,8 +195,9 @@ bool LevelWriter::exportLevel(MeshT &mesh, const std::string &name,
 			     (tex < 0 && in_.materials[size_t(m)].map_Kd.empty())))
 				source = m;
 		}
-		const uint32_t key = source >= 0 ? 0 : uint32_t(c[0]) | uint32_t(c[1]) << 8 |
-		                                           uint32_t(c[2]) << 16 | uint32_t(c[3]) << 24;
+		const uint32_t key = source >= 0 ? 0
+		                                 : uint32_t(c[0]) | uint32_t(c[1]) << 8 |
+		                                       uint32_t(c[2]) << 16 | uint32_t(c[3]) << 24;
 		const auto id = ids.emplace(std::make_tuple(source, key, source >= 0 ? -1 : tex),
 		                            int(materials.size()));
 		if (id.second) {
@@ -224,8 +223,8 @@ bool LevelWriter::exportLevel(MeshT &mesh, const std::string &name,
 	if (::mkdir(tmpDir.c_str(), 0777) != 0 && errno != EEXIST)
 		return failed(std::strerror(errno));
 	const std::string tmp = tmpDir + "/" + name;
-	const bool hasMtl = (mask_ & (Mask::IOM_FACECOLOR | Mask::IOM_WEDGTEXCOORD |
-	                              Mask::IOM_VERTTEXCOORD)) != 0;
+	const bool hasMtl =
+	    (mask_ & (Mask::IOM_FACECOLOR | Mask::IOM_WEDGTEXCOORD | Mask::IOM_VERTTEXCOORD)) != 0;
 	bool ok = gausslod::exportMesh(mesh, tmp, format_, mask_, materials, faceMaterial, error);
 	const std::string mtl = file + ".mtl";
 	if (ok && hasMtl && std::rename((tmp + ".mtl").c_str(), mtl.c_str()) != 0)
@@ -244,11 +243,12 @@ bool LevelWriter::exportLevel(MeshT &mesh, const std::string &name,
 bool LevelWriter::write(const gausslod::LevelMesh &level, const std::string &stem,
                         std::vector<std::string> &files, size_t &vertices, std::string &error) const
 {
-	const std::string name =
-	    stem + "_LOD" + std::to_string(level.stats.level) + "." + gausslod::formatExtension(format_);
+	const std::string name = stem + "_LOD" + std::to_string(level.stats.level) + "." +
+	                         gausslod::formatExtension(format_);
 	vertices = level.positions.size() / 3;
 	if (!in_.mesh) {
-		if (format_ == MeshFormat::Ply && !in_.normals) { // the lean path of files without attributes
+		if (format_ == MeshFormat::Ply &&
+		    !in_.normals) { // the lean path of files without attributes
 			const std::string file = outdir_ + "/" + name;
 			const std::string tmp = outdir_ + "/." + name + ".part-" + std::to_string(getpid());
 			if (!gausslod::writeLevelPly(level, tmp, superfaceColours_, error)) {

@@ -20,13 +20,13 @@ namespace cli {
 
 /// The input as the levels need it.
 struct InputMesh {
-	gausslod::FlatMesh flat;                 ///< what the engine works on
+	gausslod::FlatMesh flat;                                     ///< what the engine works on
 	gausslod::MeshFormat format = gausslod::MeshFormat::Unknown; ///< of the input file
-	std::string folder;                      ///< the input's folder (textures are relative to it)
-	bool normals = false;                    ///< per-vertex normals (recomputed for each level)
-	gausslod::MeshAttributes attrs;          ///< the attributes read (and carried)
-	std::unique_ptr<gausslod::IoAttrMesh> mesh; ///< the input, kept while its levels are written
-	                                             ///< (only with attributes)
+	std::string folder;             ///< the input's folder (textures are relative to it)
+	bool normals = false;           ///< per-vertex normals (recomputed for each level)
+	gausslod::MeshAttributes attrs; ///< the attributes read (and carried)
+	std::unique_ptr<gausslod::IoAttrMesh> mesh;    ///< the input, kept while its levels are written
+	                                               ///< (only with attributes)
 	std::vector<vcg::tri::io::Material> materials; ///< OBJ: VCG's materials (map_Kd local)
 	std::vector<int> faceMaterial;                 ///< OBJ: per VCG face of `mesh`
 	bool hasColour() const
@@ -67,8 +67,8 @@ private:
 	gausslod::MeshFormat format_;
 	gausslod::MeshAttributes outAttrs_; // what is copied from the input
 	bool superfaceColours_ = false;
-	int mask_ = 0;                       // vcg::tri::io::Mask bits written
-	std::vector<std::string> textures_;  // names as written (relative to OUTDIR)
+	int mask_ = 0;                      // vcg::tri::io::Mask bits written
+	std::vector<std::string> textures_; // names as written (relative to OUTDIR)
 	std::vector<std::string> attributes_;
 };
 

@@ -56,23 +56,22 @@ inline int formatMask(MeshFormat f, int mask)
 	const int geometry = M::IOM_VERTCOORD | M::IOM_FACEINDEX;
 	int keep = 0;
 	switch (f) {
-	case MeshFormat::Ply:
-		keep = M::IOM_VERTNORMAL | M::IOM_VERTCOLOR | M::IOM_VERTQUALITY | M::IOM_VERTTEXCOORD |
-		       M::IOM_WEDGTEXCOORD | M::IOM_FACECOLOR;
-		break;
-	case MeshFormat::Obj:
-		keep = M::IOM_VERTNORMAL | M::IOM_VERTCOLOR | M::IOM_VERTTEXCOORD | M::IOM_WEDGTEXCOORD |
-		       M::IOM_FACECOLOR;
-		if (mask & M::IOM_WEDGTEXCOORD) // (export_obj.h writes one of the two)
-			keep &= ~M::IOM_VERTTEXCOORD;
-		break;
-	case MeshFormat::Off:
-		keep = M::IOM_VERTCOLOR | M::IOM_VERTTEXCOORD | M::IOM_FACECOLOR;
-		if (!(mask & M::IOM_VERTCOLOR))
-			keep |= M::IOM_VERTNORMAL;
-		break;
-	default:
-		break;
+		case MeshFormat::Ply:
+			keep = M::IOM_VERTNORMAL | M::IOM_VERTCOLOR | M::IOM_VERTQUALITY | M::IOM_VERTTEXCOORD |
+			       M::IOM_WEDGTEXCOORD | M::IOM_FACECOLOR;
+			break;
+		case MeshFormat::Obj:
+			keep = M::IOM_VERTNORMAL | M::IOM_VERTCOLOR | M::IOM_VERTTEXCOORD |
+			       M::IOM_WEDGTEXCOORD | M::IOM_FACECOLOR;
+			if (mask & M::IOM_WEDGTEXCOORD) // (export_obj.h writes one of the two)
+				keep &= ~M::IOM_VERTTEXCOORD;
+			break;
+		case MeshFormat::Off:
+			keep = M::IOM_VERTCOLOR | M::IOM_VERTTEXCOORD | M::IOM_FACECOLOR;
+			if (!(mask & M::IOM_VERTCOLOR))
+				keep |= M::IOM_VERTNORMAL;
+			break;
+		default: break;
 	}
 	return geometry | (mask & keep);
 }
@@ -90,44 +89,42 @@ bool exportMesh(MeshT &m, const std::string &file, MeshFormat f, int mask,
 	int r = 0;
 	const char *what = "";
 	switch (f) {
-	case MeshFormat::Ply: {
-		vcg::tri::io::PlyInfo pi;
-		pi.mask = mask;
-		r = vcg::tri::io::ExporterPLY<MeshT>::Save(m, file.c_str(), true, pi);
-		what = r ? vcg::tri::io::ExporterPLY<MeshT>::ErrorMsg(r) : "";
-		break;
-	}
-	case MeshFormat::Obj: {
-		using Obj = vcg::tri::io::ExporterOBJ<MeshT>;
-		using A = vcg::tri::Allocator<MeshT>;
-		const bool useMaterials = faceMaterial.size() == m.face.size() && !materials.empty();
-		if (useMaterials) {
-			auto mats = A::template GetPerMeshAttribute<std::vector<vcg::tri::io::Material>>(
-			    m, "materialVector");
-			auto index = A::template GetPerFaceAttribute<int>(m, "materialIndex");
-			mats() = materials;
-			for (size_t i = 0; i < m.face.size(); ++i)
-				index[i] = faceMaterial[i];
+		case MeshFormat::Ply: {
+			vcg::tri::io::PlyInfo pi;
+			pi.mask = mask;
+			r = vcg::tri::io::ExporterPLY<MeshT>::Save(m, file.c_str(), true, pi);
+			what = r ? vcg::tri::io::ExporterPLY<MeshT>::ErrorMsg(r) : "";
+			break;
 		}
-		r = Obj::Save(m, file.c_str(), mask, useMaterials);
-		if (useMaterials) { // (TriMesh's destructor does not free attributes)
-			A::DeletePerMeshAttribute(m, "materialVector");
-			A::DeletePerFaceAttribute(m, "materialIndex");
+		case MeshFormat::Obj: {
+			using Obj = vcg::tri::io::ExporterOBJ<MeshT>;
+			using A = vcg::tri::Allocator<MeshT>;
+			const bool useMaterials = faceMaterial.size() == m.face.size() && !materials.empty();
+			if (useMaterials) {
+				auto mats = A::template GetPerMeshAttribute<std::vector<vcg::tri::io::Material>>(
+				    m, "materialVector");
+				auto index = A::template GetPerFaceAttribute<int>(m, "materialIndex");
+				mats() = materials;
+				for (size_t i = 0; i < m.face.size(); ++i)
+					index[i] = faceMaterial[i];
+			}
+			r = Obj::Save(m, file.c_str(), mask, useMaterials);
+			if (useMaterials) { // (TriMesh's destructor does not free attributes)
+				A::DeletePerMeshAttribute(m, "materialVector");
+				A::DeletePerFaceAttribute(m, "materialIndex");
+			}
+			what = r ? Obj::ErrorMsg(r) : "";
+			break;
 		}
-		what = r ? Obj::ErrorMsg(r) : "";
-		break;
-	}
-	case MeshFormat::Off:
-		r = vcg::tri::io::ExporterOFF<MeshT>::Save(m, file.c_str(), mask);
-		what = r ? vcg::tri::io::ExporterOFF<MeshT>::ErrorMsg(r) : "";
-		break;
-	case MeshFormat::Stl:
-		r = vcg::tri::io::ExporterSTL<MeshT>::Save(m, file.c_str(), true, 0);
-		what = r ? vcg::tri::io::ExporterSTL<MeshT>::ErrorMsg(r) : "";
-		break;
-	default:
-		error = "cannot write " + file + ": unknown format";
-		return false;
+		case MeshFormat::Off:
+			r = vcg::tri::io::ExporterOFF<MeshT>::Save(m, file.c_str(), mask);
+			what = r ? vcg::tri::io::ExporterOFF<MeshT>::ErrorMsg(r) : "";
+			break;
+		case MeshFormat::Stl:
+			r = vcg::tri::io::ExporterSTL<MeshT>::Save(m, file.c_str(), true, 0);
+			what = r ? vcg::tri::io::ExporterSTL<MeshT>::ErrorMsg(r) : "";
+			break;
+		default: error = "cannot write " + file + ": unknown format"; return false;
 	}
 	if (r != 0) {
 		error = "cannot write " + file + ": " + what;

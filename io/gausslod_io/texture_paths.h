@@ -79,8 +79,9 @@ inline std::vector<std::string> splitPath(const std::string &abs)
 inline std::string folderOf(const std::string &file)
 {
 	const size_t slash = file.find_last_of('/');
-	return slash == std::string::npos ? std::string(".") : slash == 0 ? std::string("/")
-	                                                                   : file.substr(0, slash);
+	return slash == std::string::npos ? std::string(".")
+	       : slash == 0               ? std::string("/")
+	                                  : file.substr(0, slash);
 }
 
 /// A texture name as found in a file read from `inputFolder`. Files written on Windows name

@@ -107,13 +107,13 @@ int main(int argc, char **argv)
 			                                     int(f.cC()[3]))
 			                   : std::make_tuple(-1, -1, -1, -1);
 			faceMaterials.emplace(c, n >= 0 && size_t(n) < m.textures.size() ? m.textures[size_t(n)]
-			                                                                  : std::string());
+			                                                                 : std::string());
 		}
 	}
 	const std::pair<int, const char *> names[] = {
-	    {Mask::IOM_VERTNORMAL, "vertex_normal"}, {Mask::IOM_VERTCOLOR, "vertex_colour"},
+	    {Mask::IOM_VERTNORMAL, "vertex_normal"},   {Mask::IOM_VERTCOLOR, "vertex_colour"},
 	    {Mask::IOM_VERTQUALITY, "vertex_quality"}, {Mask::IOM_VERTTEXCOORD, "vertex_uv"},
-	    {Mask::IOM_WEDGTEXCOORD, "wedge_uv"}, {Mask::IOM_FACECOLOR, "face_colour"}};
+	    {Mask::IOM_WEDGTEXCOORD, "wedge_uv"},      {Mask::IOM_FACECOLOR, "face_colour"}};
 	std::string attributes = "[";
 	for (const auto &n : names)
 		if (mask & n.first)
@@ -128,18 +128,19 @@ int main(int argc, char **argv)
 		std::snprintf(b, sizeof b, "%.9g", double(q));
 		return std::string(b);
 	};
-	std::printf("{\"ok\":true,\"vertices\":%d,\"faces\":%d,\"attributes\":%s,\"textures\":%s,"
-	            "\"materials\":%zu,\"material_textures\":%s,\"face_colours\":%s,"
-	            "\"vertex_colours\":%s,\"wedge_uvs\":%s,\"vertex_uvs\":%s,\"texture_indices\":%s,"
-	            "\"qualities\":%s,\"normal_length_error\":%.3g,\"distinct_normals\":%zu,\"face_materials\":%s}\n",
-	            m.vn, m.fn, attributes.c_str(), list(m.textures, str).c_str(), info.materials.size(),
-	            list(mapKd, str).c_str(), list(faceColours, colour).c_str(),
-	            list(vertexColours, colour).c_str(), list(wedgeUV, uv).c_str(),
-	            list(vertexUV, uv).c_str(),
-	            list(texIndex, [](int i) { return std::to_string(i); }).c_str(),
-	            list(quality, qual).c_str(), normalError, normals.size(),
-	            list(faceMaterials, [](const std::pair<std::tuple<int, int, int, int>, std::string> &fm) {
-		            return "[" + colour(fm.first) + "," + str(fm.second) + "]";
-	            }).c_str());
+	std::printf(
+	    "{\"ok\":true,\"vertices\":%d,\"faces\":%d,\"attributes\":%s,\"textures\":%s,"
+	    "\"materials\":%zu,\"material_textures\":%s,\"face_colours\":%s,"
+	    "\"vertex_colours\":%s,\"wedge_uvs\":%s,\"vertex_uvs\":%s,\"texture_indices\":%s,"
+	    "\"qualities\":%s,\"normal_length_error\":%.3g,\"distinct_normals\":%zu,\"face_materials\":"
+	    "%s}\n",
+	    m.vn, m.fn, attributes.c_str(), list(m.textures, str).c_str(), info.materials.size(),
+	    list(mapKd, str).c_str(), list(faceColours, colour).c_str(),
+	    list(vertexColours, colour).c_str(), list(wedgeUV, uv).c_str(), list(vertexUV, uv).c_str(),
+	    list(texIndex, [](int i) { return std::to_string(i); }).c_str(),
+	    list(quality, qual).c_str(), normalError, normals.size(),
+	    list(faceMaterials, [](const std::pair<std::tuple<int, int, int, int>, std::string> &fm) {
+		    return "[" + colour(fm.first) + "," + str(fm.second) + "]";
+	    }).c_str());
 	return 0;
 }
