@@ -3,8 +3,9 @@
 // One input per manifest line: a path (relative paths from the manifest's folder; "double
 // quotes" for blanks), then options for that input only (after the command line's options).
 // Blank lines and lines starting with # are skipped. Levels go to OUTDIR/<path without its
-// extension>_LOD<i>.ply (the path as written, ".." as "__", a leading / dropped), and a
-// record of the outcome to OUTDIR/<path without its extension>.gausslod.json.
+// extension>_LOD<i>.<ext> (the path as written, ".." as "__", a leading / dropped; ext the
+// input's or --format's, OBJ with its .mtl), and a record of the outcome to OUTDIR/<path
+// without its extension>.gausslod.json.
 //
 // Idempotent: an input whose record says ok for the same file (size, time) and options is not
 // redone (its record is printed again, "cached": true); level files are written under a
@@ -67,7 +68,7 @@ Line tokenize(const std::string &text, size_t number)
 	return l;
 }
 
-// The output path of an input (without _LOD<i>.ply): its path as written, extension dropped.
+// The output path of an input (without _LOD<i>.<ext>): its path as written, extension dropped.
 std::string outputStem(const std::string &path)
 {
 	std::string out;
@@ -108,22 +109,26 @@ bool writeAtomically(const std::string &file, const std::string &text)
 	return std::rename(tmp.c_str(), file.c_str()) == 0;
 }
 
-// Removes what a killed run left of `stem`: OUTDIR/<dir>/.<name>_LOD*.part-* and the record's.
+// Removes what a killed run left of `stem`: OUTDIR/<dir>/.<name>_LOD*.part-* (files, and the
+// folders OBJ levels are written in) and the record's.
 void removeParts(const std::string &stemPath)
 {
 	const size_t slash = stemPath.find_last_of('/');
 	const std::string dir = stemPath.substr(0, slash), name = stemPath.substr(slash + 1);
+	removeLevelParts(dir, name);
 	DIR *d = opendir(dir.c_str());
 	if (!d)
 		return;
-	const std::string level = "." + name + "_LOD", record = name + ".gausslod.json.part-";
+	const std::string record = name + ".gausslod.json.part-";
+	std::vector<std::string> found;
 	while (const dirent *e = readdir(d)) {
 		const std::string n = e->d_name;
-		if ((n.compare(0, level.size(), level) == 0 && n.find(".part-") != std::string::npos) ||
-		    n.compare(0, record.size(), record) == 0)
-			std::remove((dir + "/" + n).c_str());
+		if (n.compare(0, record.size(), record) == 0)
+			found.push_back(n);
 	}
 	closedir(d);
+	for (const std::string &n : found)
+		std::remove((dir + "/" + n).c_str());
 }
 
 std::string levelsJson(const Outcome &o)
@@ -133,9 +138,17 @@ std::string levelsJson(const Outcome &o)
 		char buf[160];
 		const gausslod::LevelStats &l = o.levels[i];
 		std::snprintf(buf, sizeof buf,
-		              "{\"level\":%d,\"faces\":%zu,\"vertices\":%zu,\"max_dev_deg\":%.4f,\"file\":",
+		              "{\"level\":%d,\"faces\":%zu,\"vertices\":%zu,\"max_dev_deg\":%.4f,",
 		              l.level, l.faces, l.vertices, l.maxNormalDevDeg);
-		s += (i ? "," : "") + std::string(buf) + jsonString(o.files[i]) + "}";
+		s += (i ? "," : "") + std::string(buf);
+		if (l.maxTexError >= 0) {
+			std::snprintf(buf, sizeof buf, "\"max_tex_error\":%.6g,", l.maxTexError);
+			s += buf;
+		}
+		s += "\"file\":" + jsonString(o.files[i]);
+		if (i < o.materialFiles.size() && !o.materialFiles[i].empty())
+			s += ",\"material_file\":" + jsonString(o.materialFiles[i]);
+		s += "}";
 	}
 	return s + "]";
 }
@@ -154,6 +167,10 @@ std::string resultJson(const Line &l, const std::string &input, const Outcome &o
 	s += buf;
 	if (!o.levels.empty())
 		s += repairsJson(o.levels[0].input) + ",";
+	s += "\"format\":" + jsonString(o.format) + ",\"attributes\":[";
+	for (size_t i = 0; i < o.attributes.size(); ++i)
+		s += (i ? "," : "") + jsonString(o.attributes[i]);
+	s += std::string("],\"superface_colours\":") + (o.superfaceColours ? "true" : "false") + ",";
 	return s + "\"levels\":" + levelsJson(o) + ",\"signature\":" + jsonString(signature) +
 	       ",\"cached\":false}";
 }
@@ -161,7 +178,9 @@ std::string resultJson(const Line &l, const std::string &input, const Outcome &o
 // Every option value that changes the files (not threads: the output does not depend on it).
 std::string optionsKey(const Options &o)
 {
-	std::string key = "out=" + o.outputLevels + " colour=" + std::to_string(int(o.colour));
+	std::string key = "out=" + o.outputLevels + " colour=" + std::to_string(int(o.colour)) +
+	                  " overwrite=" + std::to_string(int(o.overwriteColours)) + " format=" +
+	                  (o.format.empty() ? "input" : o.format);
 	char buf[64];
 	for (const gausslod::ParamSpec &s : gausslod::paramSpecs())
 		if (s.kind != gausslod::ParamKind::LevelList && std::string(s.name) != "threads") {

@@ -25,7 +25,9 @@ enum Exit {
 struct Options {
 	gausslod::Params params;           ///< the engine's (--kebab-case of their names)
 	std::string outputLevels = "all"; ///< the text form of params.outputLevels
-	bool colour = true;                ///< --colour-superfaces
+	bool colour = true;                ///< --colour-superfaces (only where the input has no colour)
+	bool overwriteColours = false;     ///< --overwrite-colours: superface colours replace the input's
+	std::string format;                ///< --format ply|obj|off|stl; "" = the input's
 	bool json = false;
 };
 
@@ -44,8 +46,14 @@ struct Outcome {
 	std::string message;     ///< one line, without the file name
 	size_t inputFaces = 0, inputVertices = 0;
 	double diagonal = 0; ///< of the input's bounding box
-	std::vector<gausslod::LevelStats> levels;
-	std::vector<std::string> files;
+	std::vector<gausslod::LevelStats> levels; ///< (vertices: the file's)
+	std::vector<std::string> files;           ///< the level files, one per level
+	std::vector<std::string> materialFiles;   ///< per level: its OBJ material file, or ""
+	std::string format;                       ///< of the level files (ply, obj, off, stl)
+	std::vector<std::string> attributes;      ///< the input's attributes the files carry
+	bool superfaceColours = false;            ///< faces coloured by superface
+	bool texCoords = false;                   ///< the input has texture coordinates (texture
+	                                          ///< error measured)
 	double seconds = 0;
 };
 
@@ -53,9 +61,11 @@ struct Outcome {
 using LevelDone = std::function<void(const Outcome &sofar, const gausslod::LevelStats &,
                                      const std::string &file)>;
 
-/// Reads `input`, builds its levels and writes OUTDIR/<stem>_LOD<i>.ply for each requested
-/// level: each written under a temporary name in OUTDIR and renamed, so that no half-written
-/// level ever carries the final name. OUTDIR is created (with its parents) if missing.
+/// Reads `input`, builds its levels and writes OUTDIR/<stem>_LOD<i>.<ext> for each requested
+/// level (ext: --format, else the input's; OBJ with its <name>.mtl) with the attributes the input
+/// carries (level_files.h): each written under a temporary name in OUTDIR and renamed, so that
+/// no half-written level ever carries the final name. OUTDIR is created (with its parents) if
+/// missing.
 Outcome runOne(const std::string &input, const std::string &outdir, const std::string &stem,
                const Options &o, const LevelDone &done);
 
@@ -67,6 +77,14 @@ std::string jsonString(const std::string &s);
 /// The input repairs as JSON members (no braces), and as one line of text ("" if none).
 std::string repairsJson(const gausslod::InputStats &in);
 std::string repairsText(const gausslod::InputStats &in);
+
+/// The level's JSON members "attributes" (carried), "superface_colours" and "max_tex_error" (no
+/// braces).
+std::string attributesJson(const Outcome &o, const gausslod::LevelStats &level);
+/// ',"material_file":NAME' of the last level written, if it has one ("" if not).
+std::string materialFileJson(const Outcome &o);
+/// Removes what a killed run left of OUTDIR/<stem>_LOD* (temporary files and folders).
+void removeLevelParts(const std::string &outdir, const std::string &stem);
 
 /// `gausslod batch ...` (args after the word batch).
 int batchMain(const std::vector<std::string> &args);

@@ -2,13 +2,10 @@
 //   gausslod [options] INPUT(.ply|.obj|.off|.stl) OUTDIR
 //   gausslod --check [options] INPUT
 //   gausslod batch [options] MANIFEST OUTDIR [--part K/N]      (batch.cpp)
-// Writes OUTDIR/<name>_LOD<i>.ply per level and prints a per-level table (or JSON lines).
+// Writes OUTDIR/<name>_LOD<i>.<ext> per level (the input's format unless --format says another,
+// with the input's attributes: level_files.h) and prints a per-level table (or JSON lines).
 #include "cli.h"
-
-#include "gausslod_io/import_mesh.h"
-#include "gausslod_io/io_mesh.h"
-#include "gausslod_io/level_ply.h"
-#include "gausslod/vcg_adapter.h"
+#include "level_files.h"
 
 #include <cctype>
 #include <cerrno>
@@ -18,6 +15,7 @@
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
+#include <memory>
 #include <new>
 #include <string>
 #include <sys/stat.h>
@@ -121,25 +119,22 @@ void setEngineError(Outcome &out, const gausslod::Result &res)
 	}
 }
 
-// Reads `input` into flat arrays.
-bool readInput(const std::string &input, const Options &o, gausslod::FlatMesh &flat,
-               gausslod::Params &p, Outcome &out)
+// Reads `input` (flat arrays, and with attributes the VCG mesh its levels copy them from).
+bool readInput(const std::string &input, const Options &o, InputMesh &in, gausslod::Params &p,
+               Outcome &out)
 {
-	{ // the VCG mesh is freed once flattened (the engine works on the flat arrays)
-		gausslod::IoMesh mesh;
-		gausslod::ReadError error;
-		if (!gausslod::importMesh(mesh, input, error)) {
-			const int code = error.status == gausslod::ReadStatus::CannotOpen ? kCannotOpen
-			                 : error.status == gausslod::ReadStatus::TooLarge ? kNoMemory
-			                                                                  : kUnreadable;
-			setError(out, code, gausslod::readStatusName(error.status), error.message);
-			return false;
-		}
-		flat = gausslod::flatten(mesh);
+	gausslod::ReadError error;
+	if (!readInputMesh(input, o.params, in, error)) {
+		const int code = error.status == gausslod::ReadStatus::CannotOpen ? kCannotOpen
+		                 : error.status == gausslod::ReadStatus::TooLarge ? kNoMemory
+		                                                                  : kUnreadable;
+		setError(out, code, gausslod::readStatusName(error.status), error.message);
+		return false;
 	}
-	out.inputFaces = flat.triangles.size() / 3;
-	out.inputVertices = flat.positions.size() / 3;
-	out.diagonal = gausslod::bboxDiagonal(flat.view());
+	out.inputFaces = in.flat.triangles.size() / 3;
+	out.inputVertices = in.flat.positions.size() / 3;
+	out.diagonal = gausslod::bboxDiagonal(in.flat.view());
+	out.texCoords = !in.flat.cornerUV.empty();
 	p = o.params;
 	return true;
 }
@@ -169,7 +164,12 @@ const char *optionHelp()
 			std::snprintf(line, sizeof line, "  %-22s %s (%s)\n", flag.c_str(), s.summary, def.c_str());
 			h += line;
 		}
-		h += "  --colour-superfaces BOOL  colour faces by superface (true)\n"
+		h += "  --colour-superfaces BOOL  colour faces by superface where the input has no colour\n"
+		     "                         of its own (no vertex or face colour, no texture\n"
+		     "                         coordinates) (true)\n"
+		     "  --overwrite-colours    colour faces by superface even where the input has\n"
+		     "                         colours (they are then not written)\n"
+		     "  --format F             ply, obj (+ .mtl), off or stl (the input's)\n"
 		     "  --json                 one JSON line per level instead of the table\n"
 		     "  earlier spellings: --levels N, --straighten P, --merge P, --paper-superfaces\n"
 		     "  (= --across-cells false), --no-weld (= --weld-vertices false), --no-colour\n";
@@ -190,8 +190,17 @@ bool parseOptions(const std::vector<std::string> &args, Options &o,
 				valueGiven = *alias[2] != 0;
 				value = alias[2];
 			}
-		if (flag == "--json") {
-			o.json = true;
+		if (flag == "--json" || flag == "--overwrite-colours") {
+			(flag == "--json" ? o.json : o.overwriteColours) = true;
+			continue;
+		}
+		if (flag == "--format") {
+			if (i + 1 >= args.size())
+				return error = "--format needs a value", false;
+			o.format = args[++i];
+			if (gausslod::formatNamed(o.format) == gausslod::MeshFormat::Unknown)
+				return error = "--format needs ply, obj, off or stl", false;
+			o.format = gausslod::formatExtension(gausslod::formatNamed(o.format));
 			continue;
 		}
 		const gausslod::ParamSpec *spec = nullptr;
@@ -251,6 +260,25 @@ std::string repairsJson(const gausslod::InputStats &in)
 	return buf;
 }
 
+std::string attributesJson(const Outcome &o, const gausslod::LevelStats &level)
+{
+	std::string s = "\"attributes\":[";
+	for (size_t i = 0; i < o.attributes.size(); ++i)
+		s += (i ? "," : "") + jsonString(o.attributes[i]);
+	char err[32] = "null";
+	if (level.maxTexError >= 0)
+		std::snprintf(err, sizeof err, "%.6g", level.maxTexError);
+	return s + "],\"superface_colours\":" + (o.superfaceColours ? "true" : "false") +
+	       ",\"max_tex_error\":" + err;
+}
+
+std::string materialFileJson(const Outcome &o)
+{
+	return o.materialFiles.empty() || o.materialFiles.back().empty()
+	           ? std::string()
+	           : ",\"material_file\":" + jsonString(o.materialFiles.back());
+}
+
 std::string repairsText(const gausslod::InputStats &in)
 {
 	std::string s;
@@ -282,17 +310,17 @@ std::string repairsText(const gausslod::InputStats &in)
 
 namespace {
 
-// Reads `input` and hands it to fn(flat, params, outcome); an allocation failure anywhere is the
-// outcome's out-of-memory error.
+// Reads `input` and hands it to fn(input mesh, params, outcome); an allocation failure anywhere
+// is the outcome's out-of-memory error.
 template <class Fn>
 Outcome withInput(const std::string &input, const Options &o, Fn fn)
 {
 	Outcome out;
 	try {
-		gausslod::FlatMesh flat;
+		InputMesh in;
 		gausslod::Params p;
-		if (readInput(input, o, flat, p, out))
-			fn(flat, p, out);
+		if (readInput(input, o, in, p, out))
+			fn(in, p, out);
 	} catch (const std::bad_alloc &) {
 		setError(out, kNoMemory, "out_of_memory", "out of memory");
 	}
@@ -303,10 +331,9 @@ Outcome withInput(const std::string &input, const Options &o, Fn fn)
 
 Outcome checkOne(const std::string &input, const Options &o)
 {
-	using gausslod::FlatMesh;
 	using gausslod::Params;
-	return withInput(input, o, [](const FlatMesh &flat, const Params &p, Outcome &out) {
-		const gausslod::Result res = gausslod::checkInput(flat.view(), p);
+	return withInput(input, o, [](const InputMesh &in, const Params &p, Outcome &out) {
+		const gausslod::Result res = gausslod::checkInput(in.flat.view(), p);
 		if (!res.ok)
 			setEngineError(out, res);
 		out.levels.emplace_back();
@@ -317,39 +344,38 @@ Outcome checkOne(const std::string &input, const Options &o)
 Outcome runOne(const std::string &input, const std::string &outdir, const std::string &stem,
                const Options &o, const LevelDone &done)
 {
-	using gausslod::FlatMesh;
 	using gausslod::Params;
-	return withInput(input, o, [&](const FlatMesh &flat, const Params &p, Outcome &out) {
+	return withInput(input, o, [&](const InputMesh &in, const Params &p, Outcome &out) {
 #ifdef __GLIBC__
 		// below 500k faces the freed arrays weigh more in the peak and are cheap to map (DESIGN.md)
 		mallopt(M_MMAP_THRESHOLD, out.inputFaces < 500000 ? 256 << 10 : 4 << 20);
 #endif
 		std::string writeError;
-		const std::string part = ".part-" + std::to_string(getpid());
+		std::unique_ptr<LevelWriter> writer; // (made with the folder: texture names are from it)
 		// each level is written as soon as it is built, then dropped (one level in memory at a time)
 		auto sink = [&](const gausslod::LevelMesh &lm) {
-			if (out.files.empty() && !makeDirs(outdir)) {
-				writeError = "cannot create the output folder " + outdir;
-				return false;
+			if (!writer) {
+				if (!makeDirs(outdir)) {
+					writeError = "cannot create the output folder " + outdir;
+					return false;
+				}
+				writer.reset(new LevelWriter(in, o, outdir));
+				out.format = gausslod::formatExtension(writer->format());
+				out.attributes = writer->attributes();
+				out.superfaceColours = writer->superfaceColours();
 			}
-			const std::string name = stem + "_LOD" + std::to_string(lm.stats.level) + ".ply";
-			const std::string file = outdir + "/" + name, tmp = outdir + "/." + name + part;
-			if (!gausslod::writeLevelPly(lm, tmp, o.colour, writeError)) {
-				std::remove(tmp.c_str());
+			std::vector<std::string> files;
+			gausslod::LevelStats stats = lm.stats;
+			if (!writer->write(lm, stem, files, stats.vertices, writeError))
 				return false;
-			}
-			if (std::rename(tmp.c_str(), file.c_str()) != 0) {
-				writeError = "cannot write " + file + ": " + std::strerror(errno);
-				std::remove(tmp.c_str());
-				return false;
-			}
-			out.levels.push_back(lm.stats);
-			out.files.push_back(file);
+			out.levels.push_back(stats);
+			out.files.push_back(files[0]);
+			out.materialFiles.push_back(files.size() > 1 ? files[1] : std::string());
 			if (done)
-				done(out, lm.stats, file);
+				done(out, stats, files[0]);
 			return true;
 		};
-		const gausslod::Result res = gausslod::buildLevels(flat.view(), p, {}, sink);
+		const gausslod::Result res = gausslod::buildLevels(in.flat.view(), p, {}, sink);
 		out.seconds = res.totalSeconds;
 		if (!writeError.empty())
 			setError(out, kCannotWrite, "write_failed", writeError);
@@ -369,6 +395,16 @@ void usage()
 	             "       gausslod --check [options] INPUT\n"
 	             "       gausslod batch [options] MANIFEST OUTDIR [--part K/N]\n"
 	             "  INPUT: .ply .obj .off .stl triangle mesh; OUTDIR: created if missing\n"
+	             "  Each level is OUTDIR/<name>_LOD<i>.<ext> in INPUT's format unless --format says\n"
+	             "  another (OBJ with its <name>_LOD<i>.obj.mtl), with what INPUT carries as far as the\n"
+	             "  format holds it: vertex colours and quality, texture coordinates (per vertex or\n"
+	             "  per face corner), texture files, materials and face colours, vertex normals\n"
+	             "  (recomputed). Texture names relative to INPUT's folder are rewritten relative to\n"
+	             "  OUTDIR (images are not copied). Faces are coloured by superface only if INPUT has\n"
+	             "  no colour and no texture coordinates (--overwrite-colours: always; --no-colour:\n"
+	             "  never). Materials, texture seams and colour changes are borders no level\n"
+	             "  crosses (--keep-materials, --keep-seams); --max-tex-error bounds how far texture\n"
+	             "  coordinates move (the table's texerr column, UV units).\n"
 	             "  --check: read and check INPUT only (no level is built), same messages and codes\n"
 	             "  batch: one input per MANIFEST line (path, then options); see the README\n"
 	             "%s"
@@ -378,13 +414,21 @@ void usage()
 	             cli::optionHelp());
 }
 
-std::string tableRow(const char *label, const gausslod::LevelStats &s, double diag, bool distance)
+std::string tableRow(const char *label, const gausslod::LevelStats &s, double diag, bool distance,
+                     bool texture)
 {
-	char buf[256], dist[32] = "";
+	char buf[256], dist[64] = "";
 	if (distance && s.maxDistance >= 0 && diag > 0)
 		std::snprintf(dist, sizeof dist, "  %9.4f", 100.0 * s.maxDistance / diag);
 	else if (distance)
 		std::snprintf(dist, sizeof dist, "  %9s", "null");
+	if (texture) {
+		const size_t n = std::strlen(dist);
+		if (s.maxTexError >= 0)
+			std::snprintf(dist + n, sizeof dist - n, " %10.6f", s.maxTexError);
+		else
+			std::snprintf(dist + n, sizeof dist - n, " %10s", "-");
+	}
 	std::snprintf(buf, sizeof buf, "%-6s %9zu %9zu %10zu %9zu %9.2f %9.2f %9.3f %8.3f%s", label,
 	              s.faces, s.vertices, s.superfaces, s.fallbacks, s.boundDeg, s.maxNormalDevDeg,
 	              s.meanNormalDevDeg, s.seconds, dist);
@@ -444,16 +488,22 @@ int main(int argc, char **argv)
 	stem = stem.substr(0, stem.find_last_of('.'));
 	const bool distance = o.params.maxDistance > 0;
 	auto done = [&](const cli::Outcome &sofar, const gausslod::LevelStats &s, const std::string &file) {
+		const bool texture = sofar.texCoords;
 		if (sofar.files.size() == 1 && !o.json) {
 			const std::string repairs = cli::repairsText(s.input);
 			if (!repairs.empty())
 				std::printf("input repairs: %s\n", repairs.c_str());
-			std::printf("%-6s %9s %9s %10s %9s %9s %9s %9s %8s%s\n", "level", "faces", "vertices",
+			std::string carried;
+			for (const std::string &a : sofar.attributes)
+				carried += (carried.empty() ? "" : " ") + a;
+			if (!carried.empty())
+				std::printf("attributes carried: %s\n", carried.c_str());
+			std::printf("%-6s %9s %9s %10s %9s %9s %9s %9s %8s%s%s\n", "level", "faces", "vertices",
 			            "superfaces", "fallback", "bound", "maxdev", "meandev", "seconds",
-			            distance ? " distbound%" : "");
-			std::printf("%-6s %9zu %9zu %10s %9s %9s %9s %9s %8s%s\n", "input", sofar.inputFaces,
+			            distance ? " distbound%" : "", texture ? "     texerr" : "");
+			std::printf("%-6s %9zu %9zu %10s %9s %9s %9s %9s %8s%s%s\n", "input", sofar.inputFaces,
 			            sofar.inputVertices, "-", "-", "-", "-", "-", "-",
-			            distance ? "          -" : "");
+			            distance ? "          -" : "", texture ? "          -" : "");
 		}
 		const double diag = sofar.diagonal;
 		if (o.json) {
@@ -466,15 +516,16 @@ int main(int argc, char **argv)
 			            "\"max_dev_deg\":%.4f,\"mean_dev_deg\":%.4f,\"unmeasured_faces\":%zu,"
 			            "\"seconds\":%.4f,\"seconds_partition\":%.4f,\"seconds_borders\":%.4f,"
 			            "\"seconds_triangulation\":%.4f,\"seconds_checks\":%.4f,\"rounds\":%d,"
-			            "\"reused_finer\":%s,\"distance_bound_pct\":%s,%s,\"file\":%s}\n",
+			            "\"reused_finer\":%s,\"distance_bound_pct\":%s,%s,%s,\"file\":%s%s}\n",
 			            s.level, s.faces, s.vertices, s.superfaces, s.fallbacks, s.retriangulated,
 			            s.boundDeg, s.maxNormalDevDeg, s.meanNormalDevDeg, s.unmeasuredFaces,
 			            s.seconds, s.secondsPartition, s.secondsBorders, s.secondsTriangulation,
 			            s.secondsChecks, s.rounds, s.reusedFiner ? "true" : "false", dist,
-			            cli::repairsJson(s.input).c_str(), cli::jsonString(file).c_str());
+			            cli::repairsJson(s.input).c_str(), cli::attributesJson(sofar, s).c_str(),
+			            cli::jsonString(file).c_str(), cli::materialFileJson(sofar).c_str());
 		} else {
 			const std::string label = "LOD" + std::to_string(s.level);
-			std::printf("%s\n", tableRow(label.c_str(), s, diag, distance).c_str());
+			std::printf("%s\n", tableRow(label.c_str(), s, diag, distance, texture).c_str());
 		}
 		std::fflush(stdout);
 	};

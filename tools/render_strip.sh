@@ -19,7 +19,7 @@ convert=/usr/bin/convert
 [ -x "$convert" ] || convert=$(command -v convert) ||
   { echo "render_strip.sh: imagemagick's convert not found" >&2; exit 2; }
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-"$build/gausslod" "$mesh" "$tmp" >"$tmp/table.txt"
+"$build/gausslod" --format ply "$mesh" "$tmp" >"$tmp/table.txt"
 name=$(basename "$mesh"); name=${name%.*}
 files=("$mesh")
 for l in "${levels[@]}"; do files+=("$tmp/${name}_LOD$l.ply"); done

@@ -33,8 +33,11 @@
 //
 // OBJ and OFF polygons of 5+ corners are split by GLU's tessellator, as in MeshLab's io_base (a
 // fan would fold concave polygons); the OBJ index defect of VCG 2020.09 (every face using the
-// first vertex dropped) is fixed for IoMesh by obj_import.h, as in the OBJ plugin, so that the
-// tool reads a file into the same triangles as the filter gets from MeshLab.
+// first vertex dropped) is fixed for IoMesh and IoAttrMesh by obj_import.h, as in the OBJ plugin,
+// so that the tool reads a file into the same triangles as the filter gets from MeshLab. An OBJ
+// is read from its own folder (VCG opens its mtllib relative to the current directory), as the
+// OBJ plugin does. importMeshEither() reads into a lean mesh type unless the file's load mask
+// (VCG's LoadMask, or the OFF pre-scan) has attributes worth the richer one.
 #pragma once
 
 #include <GL/glu.h> // before VCG's importers: their polygon tessellation then uses GLU
@@ -46,6 +49,7 @@
 #include <wrap/io_trimesh/import.h>
 #include <wrap/ply/plylib.h>
 
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -59,6 +63,7 @@
 #include <cstring>
 #include <exception>
 #include <fstream>
+#include <memory>
 #include <istream>
 #include <new>
 #include <streambuf>
@@ -66,6 +71,7 @@
 #include <vector>
 
 GAUSSLOD_FIX_VCG_OBJ_INDICES(gausslod::IoMesh)
+GAUSSLOD_FIX_VCG_OBJ_INDICES(gausslod::IoAttrMesh)
 
 namespace gausslod {
 
@@ -80,6 +86,16 @@ enum class ReadStatus { Ok = 0, CannotOpen, Empty, WrongFormat, Corrupt, TooLarg
 struct ReadError {
 	ReadStatus status = ReadStatus::Ok;
 	std::string message; // the problem only, one line, no file name, no trailing newline
+};
+
+/// What importMesh read besides positions and faces.
+struct ReadInfo {
+	int fileMask = 0; ///< what the file carries (vcg::tri::io::Mask bits, VCG's LoadMask)
+	int mask = 0;     ///< what was read into the mesh (the file's, as far as the mesh type holds it)
+	/// OBJ: the materials VCG's importer made of the MTL file, and per face an index into them
+	/// (faces and materials as VCG read them; its face colours come from the materials' Kd)
+	std::vector<vcg::tri::io::Material> materials;
+	std::vector<int> faceMaterial;
 };
 
 inline const char *readStatusName(ReadStatus s)
@@ -357,8 +373,16 @@ private:
 	std::vector<Word> words_;
 };
 
+/// What the guards learnt of a file: element counts (for memory estimates) and VCG's load mask
+/// (vcg::tri::io::Mask: the attributes the file carries), known before its body is read.
+struct FileFacts {
+	double vertices = 0, faces = 0;
+	int mask = 0;
+};
+
 /// Checks an OFF file exactly as VCG's ImporterOFF will read it (see the top of this file).
-inline bool scanOff(FILE *f, uint64_t size, double vertexBytes, double faceBytes, ReadError &e)
+inline bool scanOff(FILE *f, uint64_t size, double vertexBytes, double faceBytes, ReadError &e,
+                    FileFacts &facts)
 {
 	OffTokens in(f);
 	std::vector<Word> w = in.nextLine();
@@ -368,7 +392,7 @@ inline bool scanOff(FILE *f, uint64_t size, double vertexBytes, double faceBytes
 	const size_t off = head.rfind("OFF");
 	if (off == std::string::npos)
 		return corrupt(e, "no OFF header (the first word is " + quote(w[0].b, w[0].e) + ")");
-	bool color = false, normal = false, tex = false;
+	bool color = false, normal = false, tex = false, vertexColour = false, faceColour = false;
 	for (size_t u = 0; u < off; ++u) {
 		const char c = head[u];
 		if (c == 'n' || c == '4')
@@ -422,6 +446,7 @@ inline bool scanOff(FILE *f, uint64_t size, double vertexBytes, double faceBytes
 		}
 		if (color) { // VCG counts the colour words left on the line (import_off.h:277)
 			const long long nc = (long long)w.size() - (long long)k - (tex ? 2 : 0);
+			vertexColour |= nc > 0;
 			if (nc < 0 || nc > 4)
 				return corrupt(e, "vertex " + num(i) + " has " + num(nc) + " colour components");
 			long long c;
@@ -460,11 +485,18 @@ inline bool scanOff(FILE *f, uint64_t size, double vertexBytes, double faceBytes
 		    (!parseInt(w[n + 1].b, w[n + 1].e, c) || c < 0 || c >= 148))
 			return corrupt(e, "face " + num(i) + ": colour-map index " +
 			                      quote(w[n + 1].b, w[n + 1].e) + " out of range 0..147");
+		faceColour |= w.size() > size_t(n) + 1; // (import_off.h:532)
 		if (w.size() >= size_t(n) + 1 && !offColoursOk(w, size_t(n) + 1, (long long)w.size() - n - 1))
 			return corrupt(e, "face " + num(i) + ": colour component out of range 0..1");
 	}
 	if (nv == 0 && nf == 0)
 		return fail(e, ReadStatus::Empty, "the OFF file holds no vertex and no face");
+	using vcg::tri::io::Mask;
+	facts.vertices = double(nv);
+	facts.faces = triangles;
+	facts.mask = Mask::IOM_VERTCOORD | Mask::IOM_FACEINDEX | (normal ? Mask::IOM_VERTNORMAL : 0) |
+	             (tex ? Mask::IOM_VERTTEXCOORD : 0) | (vertexColour ? Mask::IOM_VERTCOLOR : 0) |
+	             (faceColour ? Mask::IOM_FACECOLOR : 0);
 	return checkMemory(double(nv) * vertexBytes + triangles * faceBytes, e);
 }
 
@@ -499,10 +531,11 @@ struct ObjScan {
 	std::vector<int> tri;           // the triangles VCG should build (fan of each face line)
 	std::vector<unsigned char> faux; // per triangle: bit k set if edge k is inside a polygon
 	long long vertices = 0;
+	bool vertexColours = false; // a vertex line with colours ('v x y z r g b')
 };
 
-/// A material file VCG will open (relative to the working directory, as VCG does): it must be a
-/// regular file, and its '\' continuations must be ones VCG joins in bounds.
+/// A material file VCG will open (relative to the working directory, the OBJ's folder while it is
+/// read): it must be a regular file, and its '\' continuations must be ones VCG joins in bounds.
 inline bool checkContinuations(LineReader &in, const char *where, ReadError &e);
 
 inline bool checkMaterialFile(const std::string &name, ReadError &e)
@@ -631,6 +664,7 @@ inline bool scanObj(FILE *f, const std::string &path, uint64_t size, double vert
 				if (!parseNumber(w[j].b, w[j].e))
 					return corrupt(e, at() + quote(w[j].b, w[j].e) + " is not a number");
 			if (w.size() >= 7) { // colours, scaled as VCG does (import_obj.h:309-315)
+				out.vertexColours = true;
 				float c[3];
 				for (int j = 0; j < 3; ++j)
 					c[j] = parseNumber(w[4 + j].b, w[4 + j].e)
@@ -856,7 +890,7 @@ inline bool readPlyAscii(FILE *f, int t, double &v, bool &bad)
 
 /// Checks a PLY file before VCG's ImporterPLY reads it (see the top of this file).
 inline bool checkPly(const std::string &path, FILE *f, uint64_t size, double vertexBytes,
-                     double faceBytes, ReadError &e)
+                     double faceBytes, ReadError &e, FileFacts &facts)
 {
 	PlyHeader h;
 	if (!precheckPlyHeader(f, h, e))
@@ -944,6 +978,8 @@ inline bool checkPly(const std::string &path, FILE *f, uint64_t size, double ver
 	const double body = double(size) - double(h.dataOffset);
 	if (minBytes > body + (ascii ? 1 : 0))
 		return lyingCounts(e, (unsigned long long)nv, (unsigned long long)nf, "faces", size);
+	facts.vertices = double(nv);
+	facts.faces = double(nf);
 	if (!checkMemory(double(nv) * (vertexBytes + sizeof(void *)) + double(nf) * faceBytes, e))
 		return false;
 	if (!lists)
@@ -1030,13 +1066,12 @@ void buildSoup(MeshT &m, const std::vector<float> &xyz)
 		}
 }
 
-template <class MeshT>
-bool readBinaryStl(MeshT &m, FILE *f, uint64_t n, double vertexBytes, double faceBytes,
-                   ReadError &e)
+inline bool readBinaryStl(std::vector<float> &xyz, FILE *f, uint64_t n, double vertexBytes,
+                          double faceBytes, ReadError &e)
 {
 	if (!checkMemory(double(n) * (3 * vertexBytes + faceBytes + 36), e))
 		return false;
-	std::vector<float> xyz(size_t(n) * 9);
+	xyz.assign(size_t(n) * 9, 0.0f);
 	unsigned char rec[50];
 	std::fseek(f, 84, SEEK_SET);
 	for (uint64_t i = 0; i < n; ++i) {
@@ -1048,7 +1083,6 @@ bool readBinaryStl(MeshT &m, FILE *f, uint64_t n, double vertexBytes, double fac
 			std::memcpy(&xyz[size_t(i) * 9 + size_t(j)], &u, 4);
 		}
 	}
-	buildSoup(m, xyz);
 	return true;
 }
 
@@ -1092,9 +1126,8 @@ inline bool sameWord(const std::string &a, const char *b)
 	return i == a.size() && !b[i];
 }
 
-template <class MeshT>
-bool readAsciiStl(MeshT &m, FILE *f, uint64_t size, double vertexBytes, double faceBytes,
-                  ReadError &e)
+inline bool readAsciiStl(std::vector<float> &xyz, FILE *f, uint64_t size, double vertexBytes,
+                         double faceBytes, ReadError &e)
 {
 	// the smallest facet takes about 80 bytes of text
 	if (!checkMemory(double(size) / 80 * (3 * vertexBytes + faceBytes + 36), e))
@@ -1102,7 +1135,7 @@ bool readAsciiStl(MeshT &m, FILE *f, uint64_t size, double vertexBytes, double f
 	std::fseek(f, 0, SEEK_SET);
 	StlWords in(f);
 	std::string w;
-	std::vector<float> xyz;
+	xyz.clear();
 	auto expect = [&](const char *word) {
 		if (!in.next(w))
 			return corrupt(e, "truncated: the file ends in facet " + num((long long)xyz.size() / 9));
@@ -1157,7 +1190,6 @@ bool readAsciiStl(MeshT &m, FILE *f, uint64_t size, double vertexBytes, double f
 	}
 	if (inSolid)
 		return corrupt(e, "truncated: no 'endsolid' at the end of the ASCII STL");
-	buildSoup(m, xyz);
 	return true;
 }
 
@@ -1196,12 +1228,59 @@ inline Format sniff(const char *head, size_t n)
 	return Format::Unknown;
 }
 
+/// The current directory for a scope: VCG's OBJ importer opens mtllib files (and the .mtl named
+/// after the OBJ) relative to it, so an OBJ is read from its own folder, as MeshLab's OBJ plugin
+/// does. name() is the file's name from there. If the folder cannot be entered (or the current
+/// one could not be restored) nothing changes.
+class InFolder {
+public:
+	explicit InFolder(const std::string &path) : name_(path)
+	{
+		const size_t slash = path.find_last_of('/');
+		if (slash == std::string::npos)
+			return;
+		const std::string dir = slash == 0 ? std::string("/") : path.substr(0, slash);
+		fd_ = ::open(".", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+		if (fd_ >= 0 && ::chdir(dir.c_str()) == 0) {
+			name_ = path.substr(slash + 1);
+		} else if (fd_ >= 0) {
+			::close(fd_);
+			fd_ = -1;
+		}
+	}
+	~InFolder()
+	{
+		if (fd_ >= 0) {
+			const int back = ::fchdir(fd_);
+			(void)back;
+			::close(fd_);
+		}
+	}
+	InFolder(const InFolder &) = delete;
+	InFolder &operator=(const InFolder &) = delete;
+	const std::string &name() const { return name_; }
+
+private:
+	int fd_ = -1;
+	std::string name_;
+};
+
+/// A file that passed the guards, ready for VCG's importer (readChecked).
+struct CheckedFile {
+	Format format = Format::Unknown;
+	FileFacts facts;
+	std::vector<float> stl;          ///< STL: the triangles' corners, read here
+	ObjScan obj;                     ///< OBJ: its triangles as the scan read them
+	std::unique_ptr<InFolder> folder; ///< OBJ: read from its own folder
+	std::string vcgPath;             ///< the name VCG opens
+};
+
+/// Everything before VCG reads the body: stat, sniffing, the guards of the format (see the top of
+/// this file), the file's load mask. `vb`, `fb`: bytes per vertex and face of the mesh type the
+/// memory checks assume.
 template <class MeshT>
-bool importMeshImpl(MeshT &m, const std::string &path, ReadError &e)
+bool checkFile(const std::string &path, double vb, double fb, CheckedFile &c, ReadError &e)
 {
-	using VertexType = typename MeshT::VertexType;
-	using FaceType = typename MeshT::FaceType;
-	const double vb = sizeof(VertexType), fb = sizeof(FaceType);
 	struct stat st;
 	if (::stat(path.c_str(), &st) != 0)
 		return fail(e, ReadStatus::CannotOpen, errno == ENOENT ? "no such file"
@@ -1221,8 +1300,8 @@ bool importMeshImpl(MeshT &m, const std::string &path, ReadError &e)
 	bool blank = true;
 	for (size_t i = 0; i < n && blank; ++i)
 		blank = std::isspace(static_cast<unsigned char>(head[i])) != 0;
-	for (int c; blank && (c = std::fgetc(file.f)) != EOF;)
-		blank = std::isspace(c) != 0;
+	for (int ch; blank && (ch = std::fgetc(file.f)) != EOF;)
+		blank = std::isspace(ch) != 0;
 	if (blank)
 		return fail(e, ReadStatus::Empty, "the file holds only blanks");
 	std::rewind(file.f);
@@ -1250,14 +1329,15 @@ bool importMeshImpl(MeshT &m, const std::string &path, ReadError &e)
 		                                            " file but its name ends in ." + ext);
 	const bool text = std::memchr(head, 0, n) == nullptr;
 
-	bool ok = true;
-	m.Clear();
-	int mask = 0;
+	using vcg::tri::io::Mask;
+	c.format = named;
+	c.vcgPath = path;
 	if (named == Format::Stl) {
+		bool ok;
 		if (binaryStl)
-			ok = readBinaryStl(m, file.f, stlCount, vb, fb, e);
+			ok = readBinaryStl(c.stl, file.f, stlCount, vb, fb, e);
 		else if (content == Format::Stl && text)
-			ok = readAsciiStl(m, file.f, size, vb, fb, e);
+			ok = readAsciiStl(c.stl, file.f, size, vb, fb, e);
 		else if (size >= 84)
 			return corrupt(e, "the header announces " + num(stlCount) +
 			                      " triangles but the file has " + num((long long)size) +
@@ -1266,19 +1346,60 @@ bool importMeshImpl(MeshT &m, const std::string &path, ReadError &e)
 		else
 			return corrupt(e, "not an STL file: too short for a binary STL (" +
 			                      num((long long)size) + " bytes) and not starting with 'solid'");
-	} else if (named == Format::Ply) {
-		if (!checkPly(path, file.f, size, vb, fb, e))
+		c.facts.faces = double(c.stl.size() / 9);
+		c.facts.vertices = 3 * c.facts.faces;
+		c.facts.mask = Mask::IOM_VERTCOORD | Mask::IOM_FACEINDEX;
+		return ok;
+	}
+	if (named == Format::Ply) {
+		if (!checkPly(path, file.f, size, vb, fb, e, c.facts))
 			return false;
+		// (the header passed plylib's own parser in checkPly)
+		if (!vcg::tri::io::ImporterPLY<MeshT>::LoadMask(path.c_str(), c.facts.mask))
+			return corrupt(e, "bad PLY header");
+		return true;
+	}
+	if (!text)
+		return corrupt(e, "binary data (NUL bytes) in " + withArticle(named) + " text file");
+	if (named == Format::Off)
+		return scanOff(file.f, size, vb, fb, e, c.facts);
+	c.folder.reset(new InFolder(path));
+	c.vcgPath = c.folder->name();
+	if (!scanObj(file.f, c.vcgPath, size, vb, fb, c.obj, e))
+		return false;
+	c.facts.vertices = double(c.obj.vertices);
+	c.facts.faces = double(c.obj.faux.size());
+	typename vcg::tri::io::ImporterOBJ<MeshT>::Info oi;
+	if (!vcg::tri::io::ImporterOBJ<MeshT>::LoadMask(c.vcgPath.c_str(), oi))
+		return corrupt(e, "OBJ: cannot read the file");
+	c.facts.mask = oi.mask;
+	// LoadMask takes vertex colours from blanks in the first 'v' line (import_obj.h:934): six
+	// blanks around three coordinates are not colours, and the importer would give every vertex
+	// its default grey
+	if (!c.obj.vertexColours)
+		c.facts.mask &= ~int(Mask::IOM_VERTCOLOR);
+	return true;
+}
+
+/// VCG's importer on a file checkFile() passed; `info` (optional) gets the load mask and an OBJ's
+/// materials.
+template <class MeshT>
+bool readChecked(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info)
+{
+	using VertexType = typename MeshT::VertexType;
+	const std::string &path = c.vcgPath;
+	m.Clear();
+	int mask = 0;
+	if (c.format == Format::Stl) {
+		buildSoup(m, c.stl);
+		std::vector<float>().swap(c.stl);
+		mask = c.facts.mask;
+	} else if (c.format == Format::Ply) {
 		using Ply = vcg::tri::io::ImporterPLY<MeshT>;
 		const int r = Ply::Open(m, path.c_str(), mask);
 		if (r != 0 && Ply::ErrorCritical(r))
 			return corrupt(e, std::string("PLY: ") + Ply::ErrorMsg(r));
-	} else if (!text) {
-		return corrupt(e, "binary data (NUL bytes) in " + withArticle(named) +
-		                      " text file");
-	} else if (named == Format::Off) {
-		if (!scanOff(file.f, size, vb, fb, e))
-			return false;
+	} else if (c.format == Format::Off) {
 		using Off = vcg::tri::io::ImporterOFF<MeshT>;
 		std::ifstream in(path, std::ios::binary);
 		BlankLineFilter filter(in);
@@ -1287,16 +1408,30 @@ bool importMeshImpl(MeshT &m, const std::string &path, ReadError &e)
 		if (r != 0) // (every OFF error is critical, as in vcg::tri::io::Importer)
 			return corrupt(e, std::string("OFF: ") + Off::ErrorMsg(r));
 	} else {
-		ObjScan scan;
-		if (!scanObj(file.f, path, size, vb, fb, scan, e))
-			return false;
 		using Obj = vcg::tri::io::ImporterOBJ<MeshT>;
+		const ObjScan &scan = c.obj;
 		const int r = Obj::Open(m, path.c_str(), mask);
-		// its material attributes would leak: TriMesh's destructor does not free attributes
+		// its material attributes would leak (TriMesh's destructor does not free attributes):
+		// copied for `info`, then deleted
+		if (info) {
+			auto mats = vcg::tri::Allocator<MeshT>::template FindPerMeshAttribute<
+			    std::vector<vcg::tri::io::Material>>(m, "materialVector");
+			auto index =
+			    vcg::tri::Allocator<MeshT>::template FindPerFaceAttribute<int>(m, "materialIndex");
+			if (vcg::tri::Allocator<MeshT>::IsValidHandle(m, mats) &&
+			    vcg::tri::Allocator<MeshT>::IsValidHandle(m, index)) {
+				info->materials = mats();
+				info->faceMaterial.resize(m.face.size());
+				for (size_t i = 0; i < m.face.size(); ++i)
+					info->faceMaterial[i] = index[i];
+			}
+		}
 		vcg::tri::Allocator<MeshT>::DeletePerMeshAttribute(m, "materialVector");
 		vcg::tri::Allocator<MeshT>::DeletePerFaceAttribute(m, "materialIndex");
 		if (r != 0 && Obj::ErrorCritical(r))
 			return corrupt(e, std::string("OBJ: ") + Obj::ErrorMsg(r));
+		if (!scan.vertexColours) // (see checkFile: no vertex line has colours)
+			mask &= ~int(vcg::tri::io::Mask::IOM_VERTCOLOR);
 		// VCG 2020.09 drops every face using vertex 1 (unless obj_import.h fixed it for this
 		// mesh type): rebuild the faces from the scan
 		const size_t nt = scan.faux.size();
@@ -1304,6 +1439,8 @@ bool importMeshImpl(MeshT &m, const std::string &path, ReadError &e)
 		    m.vert.size() == size_t(scan.vertices)) {
 			m.face.clear();
 			m.fn = 0;
+			if (info)
+				info->faceMaterial.clear();
 			if (nt) {
 				auto fi = vcg::tri::Allocator<MeshT>::AddFaces(m, nt);
 				for (size_t i = 0; i < nt; ++i, ++fi)
@@ -1319,8 +1456,11 @@ bool importMeshImpl(MeshT &m, const std::string &path, ReadError &e)
 				vcg::tri::UpdateNormal<MeshT>::PerFaceNormalized(m);
 		}
 	}
-	if (!ok)
-		return false;
+	c.folder.reset();
+	if (info) {
+		info->fileMask = c.facts.mask;
+		info->mask = mask;
+	}
 	// every face's vertices must lie in m.vert (whatever a reader let through)
 	const uintptr_t lo = m.vert.empty() ? 0 : uintptr_t(m.vert.data()),
 	                hi = lo + m.vert.size() * sizeof(VertexType);
@@ -1335,23 +1475,63 @@ bool importMeshImpl(MeshT &m, const std::string &path, ReadError &e)
 	return true;
 }
 
-} // namespace detail
-
-/// Loads `path` into `m`. Returns false with `error` set if the file cannot be read (`m` may then
-/// hold a partial mesh: discard it). No exception escapes.
-template <class MeshT>
-bool importMesh(MeshT &m, const std::string &path, ReadError &error)
+template <class Fn>
+bool guarded(ReadError &error, Fn fn)
 {
 	error = ReadError();
 	try {
-		return detail::importMeshImpl(m, path, error);
+		return fn();
 	} catch (const std::bad_alloc &) {
-		return detail::fail(error, ReadStatus::TooLarge, "not enough memory to read the file");
+		return fail(error, ReadStatus::TooLarge, "not enough memory to read the file");
 	} catch (const std::exception &x) {
-		return detail::corrupt(error, std::string("the reader failed: ") + x.what());
+		return corrupt(error, std::string("the reader failed: ") + x.what());
 	} catch (...) {
-		return detail::corrupt(error, "the reader failed");
+		return corrupt(error, "the reader failed");
 	}
+}
+
+} // namespace detail
+
+/// Loads `path` into `m`. Returns false with `error` set if the file cannot be read (`m` may then
+/// hold a partial mesh: discard it). No exception escapes. `info` (optional): what was read.
+template <class MeshT>
+bool importMesh(MeshT &m, const std::string &path, ReadError &error, ReadInfo *info = nullptr)
+{
+	return detail::guarded(error, [&] {
+		using V = typename MeshT::VertexType;
+		using F = typename MeshT::FaceType;
+		detail::CheckedFile c;
+		return detail::checkFile<MeshT>(path, sizeof(V), sizeof(F), c, error) &&
+		       detail::readChecked(m, c, error, info);
+	});
+}
+
+/// importMesh into `lean`, or into `full` when the file carries any attribute of `wantMask`
+/// (vcg::tri::io::Mask bits, known once the guards have read the header or the lines): the
+/// richer mesh type costs only the files that need it. `usedFull` says which mesh holds it.
+template <class LeanT, class FullT>
+bool importMeshEither(LeanT &lean, FullT &full, bool &usedFull, const std::string &path,
+                      int wantMask, ReadError &error, ReadInfo *info = nullptr)
+{
+	usedFull = false;
+	return detail::guarded(error, [&] {
+		using V = typename LeanT::VertexType;
+		using F = typename LeanT::FaceType;
+		detail::CheckedFile c;
+		if (!detail::checkFile<LeanT>(path, sizeof(V), sizeof(F), c, error))
+			return false;
+		if (!(c.facts.mask & wantMask))
+			return detail::readChecked(lean, c, error, info);
+		using FV = typename FullT::VertexType;
+		using FF = typename FullT::FaceType;
+		// (with a pointer per vertex for the index table VCG's PLY importer builds)
+		if (!detail::checkMemory(c.facts.vertices * (sizeof(FV) + sizeof(void *)) +
+		                             c.facts.faces * sizeof(FF),
+		                         error))
+			return false;
+		usedFull = true;
+		return detail::readChecked(full, c, error, info);
+	});
 }
 
 } // namespace gausslod

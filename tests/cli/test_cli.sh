@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The gausslod tool: files, table and JSON agree with each other, options do what they say, the
 # output does not depend on the thread count, and errors give their exit codes and messages.
+# (Levels are read here as binary PLY: --format ply. The default format, which follows the input,
+# and the attributes levels carry: test_cli_attributes.sh.)
 # usage: test_cli.sh GAUSSLOD DATA_DIR WORK_DIR
 set -uo pipefail
 tool=$1 data=$2 work=$3
@@ -13,7 +15,7 @@ pass() { echo "ok: $*"; }
 ply_faces() { LC_ALL=C awk '$1 == "element" && $2 == "face" { print $3; exit }' "$1"; }
 
 # 1. cow, defaults: 5 files, the table's faces agree with the files, counts never grow
-"$tool" "$data/cow.off" "$work/cow" >"$work/cow.txt" 2>&1; rc=$?
+"$tool" --format ply "$data/cow.off" "$work/cow" >"$work/cow.txt" 2>&1; rc=$?
 [ $rc -eq 0 ] && pass "cow: exit 0" || fail "cow: exit $rc: $(cat "$work/cow.txt")"
 prev=999999999
 for l in 4 3 2 1 0; do
@@ -29,7 +31,7 @@ done
 [ "$prev" -lt 5804 ] && pass "cow: 5804 -> $prev faces at LOD0" || fail "cow: LOD0 not smaller than the input"
 
 # 2. --json: one line per level, measured deviation within the bound (normal limit 1)
-"$tool" --json "$data/fandisk.off" "$work/json" >"$work/json.txt" 2>&1 || fail "--json: exit $?"
+"$tool" --format ply --json "$data/fandisk.off" "$work/json" >"$work/json.txt" 2>&1 || fail "--json: exit $?"
 if python3 - "$work/json.txt" <<'PY'
 import json, os, sys
 rows = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
@@ -42,25 +44,25 @@ PY
 then pass "--json: 5 parseable lines, deviation within bound"; else fail "--json lines wrong: $(cat "$work/json.txt")"; fi
 
 # 3. --output-levels writes only those
-"$tool" --output-levels 0,3 "$data/cow.off" "$work/sub" >/dev/null 2>&1 || fail "--output-levels: exit $?"
+"$tool" --format ply --output-levels 0,3 "$data/cow.off" "$work/sub" >/dev/null 2>&1 || fail "--output-levels: exit $?"
 [ "$(cd "$work/sub" 2>/dev/null && ls | tr '\n' ' ')" = "cow_LOD0.ply cow_LOD3.ply " ] &&
   pass "--output-levels 0,3: two files" || fail "--output-levels 0,3 wrote: $(ls "$work/sub")"
 
 # 4. same files for 1 and 3 threads
-"$tool" --threads 1 "$data/bunny00.off" "$work/t1" >/dev/null 2>&1 || fail "--threads 1: exit $?"
-"$tool" --threads 3 "$data/bunny00.off" "$work/t3" >/dev/null 2>&1 || fail "--threads 3: exit $?"
+"$tool" --format ply --threads 1 "$data/bunny00.off" "$work/t1" >/dev/null 2>&1 || fail "--threads 1: exit $?"
+"$tool" --format ply --threads 3 "$data/bunny00.off" "$work/t3" >/dev/null 2>&1 || fail "--threads 3: exit $?"
 same=1
 for l in 4 3 2 1 0; do cmp -s "$work/t1/bunny00_LOD$l.ply" "$work/t3/bunny00_LOD$l.ply" || same=0; done
 [ $same -eq 1 ] && pass "--threads 1 and 3: byte-identical files" || fail "--threads changes the output"
 
 # 5. --paper-superfaces keeps the cell borders (more faces at the finest level of fandisk)
-"$tool" --paper-superfaces "$data/fandisk.off" "$work/paper" >/dev/null 2>&1 || fail "--paper-superfaces: exit $?"
+"$tool" --format ply --paper-superfaces "$data/fandisk.off" "$work/paper" >/dev/null 2>&1 || fail "--paper-superfaces: exit $?"
 a=$(ply_faces "$work/json/fandisk_LOD4.ply") p=$(ply_faces "$work/paper/fandisk_LOD4.ply")
 [ "$p" -gt "$a" ] && pass "--paper-superfaces: LOD4 $p faces vs $a merged across cells" ||
   fail "--paper-superfaces: LOD4 $p faces, default $a"
 
 # 5b. --max-distance: coarser levels keep more faces than without it (fandisk L0 flattens by ~2.6 %)
-"$tool" --max-distance 0.1 "$data/fandisk.off" "$work/dist" >/dev/null 2>&1 || fail "--max-distance: exit $?"
+"$tool" --format ply --max-distance 0.1 "$data/fandisk.off" "$work/dist" >/dev/null 2>&1 || fail "--max-distance: exit $?"
 a=$(ply_faces "$work/json/fandisk_LOD0.ply") d=$(ply_faces "$work/dist/fandisk_LOD0.ply")
 [ "$d" -gt "$a" ] && pass "--max-distance 0.1: LOD0 $d faces vs $a without" ||
   fail "--max-distance 0.1: LOD0 $d faces, default $a"
@@ -87,11 +89,11 @@ expect check_ok 0 "cow.off: ok: 5804 faces, 2904 vertices; 1 vertices welded" --
 
 # 7. OFF files with lines of blanks (VCG's OFF reader alone crashes on them): Debian's CGAL data
 # file prim.off (a cube of 5 quads + 2 triangles, a blank line of two spaces) and a generated one
-"$tool" "$data/prim.off" "$work/prim" >"$work/prim.txt" 2>&1; rc=$?
+"$tool" --format ply "$data/prim.off" "$work/prim" >"$work/prim.txt" 2>&1; rc=$?
 [ $rc -eq 0 ] && [ "$(ply_faces "$work/prim/prim_LOD0.ply")" = 12 ] &&
   pass "prim.off (blank line of spaces): exit 0, a 12-triangle cube" || fail "prim.off: exit $rc: $(cat "$work/prim.txt")"
 printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n \t \n# faces\n3 0 2 1\n3 0 1 3\n\t\n3 1 2 3\n3 0 3 2\n' >"$work/tetra.off"
-"$tool" "$work/tetra.off" "$work/tetra" >"$work/tetra.txt" 2>&1; rc=$?
+"$tool" --format ply "$work/tetra.off" "$work/tetra" >"$work/tetra.txt" 2>&1; rc=$?
 [ $rc -eq 0 ] && [ "$(ply_faces "$work/tetra/tetra_LOD0.ply")" = 4 ] &&
   pass "OFF with blank lines of spaces and tabs: a 4-triangle tetrahedron" || fail "tetra.off: exit $rc: $(cat "$work/tetra.txt")"
 printf 'OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1\n' >"$work/short_face.off"
@@ -100,8 +102,8 @@ expect short_face 4 "short_face.off: " "$work/short_face.off" "$work/x"
 # 8. welding: an STL soup that nobody here made (Debian's assimp-testmodels; every triangle has its
 # own three vertices, as in most STL files) is simplified; --no-weld keeps every face apart
 stl=${GAUSSLOD_ASSIMP_MODELS:-/usr/share/assimp/models}/STL/Wuson.stl
-"$tool" --json "$stl" "$work/wuson" >"$work/wuson.txt" 2>&1 || fail "Wuson.stl: exit $?: $(cat "$work/wuson.txt")"
-"$tool" --no-weld "$stl" "$work/wuson_nw" >/dev/null 2>&1 || fail "Wuson.stl --no-weld: exit $?"
+"$tool" --format ply --json "$stl" "$work/wuson" >"$work/wuson.txt" 2>&1 || fail "Wuson.stl: exit $?: $(cat "$work/wuson.txt")"
+"$tool" --format ply --no-weld "$stl" "$work/wuson_nw" >/dev/null 2>&1 || fail "Wuson.stl --no-weld: exit $?"
 in=$(( ($(stat -c %s "$stl") - 84) / 50 ))
 w=$(ply_faces "$work/wuson/Wuson_LOD0.ply") nw=$(ply_faces "$work/wuson_nw/Wuson_LOD0.ply")
 [ "$w" -lt $((in * 7 / 10)) ] && [ "$nw" = "$in" ] &&
@@ -112,9 +114,9 @@ grep -q '"welded_vertices":[1-9]' "$work/wuson.txt" && pass "--json says how man
 
 # The options carry the filter's parameter names (--max-level = maxLevel); the earlier spellings
 # still work and give the same files.
-"$tool" --max-level 3 --straighten-tol 1 --merge-dist 0.5 --across-cells false \
+"$tool" --format ply --max-level 3 --straighten-tol 1 --merge-dist 0.5 --across-cells false \
   --weld-vertices false --colour-superfaces false "$data/fandisk.off" "$work/names_new" >/dev/null 2>&1
-"$tool" --levels 3 --straighten 1 --merge 0.5 --paper-superfaces --no-weld --no-colour \
+"$tool" --format ply --levels 3 --straighten 1 --merge 0.5 --paper-superfaces --no-weld --no-colour \
   "$data/fandisk.off" "$work/names_old" >/dev/null 2>&1
 same=1
 for l in 0 1 2; do cmp -s "$work/names_new/fandisk_LOD$l.ply" "$work/names_old/fandisk_LOD$l.ply" || same=0; done

@@ -2,6 +2,7 @@
 # The same levels from the gausslod tool as from the filter through meshlabserver, on files
 # nobody here made (Debian's assimp-testmodels): an STL triangle soup (MeshLab welds STL vertices
 # on import, the tool welds them itself) and its welded copy; an OBJ with n-gons.
+# The tool writes its levels as PLY here (--format ply), as the runner saves the filter's.
 # usage: test_cli_vs_filter.sh RUNNER GAUSSLOD ASSIMP_MODELS WORK_DIR   (GAUSSLOD_MESHLAB_PREFIX set)
 set -uo pipefail
 runner=$1 tool=$2 models=$3 work=$4
@@ -72,7 +73,7 @@ PY
 compare() { # NAME INPUT: the tool and the runner on INPUT give the same levels
   local name=$1 input=$2 stem
   stem=$(basename "$input"); stem=${stem%.*}
-  "$tool" "$input" "$work/cli_$name" >"$work/cli_$name.log" 2>&1 || { fail "$name: tool exit $?"; return; }
+  "$tool" --format ply "$input" "$work/cli_$name" >"$work/cli_$name.log" 2>&1 || { fail "$name: tool exit $?"; return; }
   "$runner" "$input" "$work/ml_$name" >"$work/ml_$name.log" 2>&1 || { fail "$name: runner exit $?: $(tail -5 "$work/ml_$name.log")"; return; }
   local a=() b=()
   for l in 4 3 2 1 0; do a+=("$work/cli_$name/${stem}_LOD$l.ply"); b+=("$work/ml_$name/${stem}_LOD$l.ply"); done
@@ -87,7 +88,7 @@ mkdir -p "$work/welded"
 if XDG_CONFIG_HOME=$work XDG_RUNTIME_DIR=$work xvfb-run -a "$GAUSSLOD_MESHLAB_PREFIX/bin/meshlabserver" \
      -i "$stl" -o "$work/welded/Wuson.ply" >"$work/welded.log" 2>&1 &&
    [ -s "$work/welded/Wuson.ply" ]; then
-  "$tool" "$work/welded/Wuson.ply" "$work/cli_welded" >/dev/null 2>&1 || fail "welded copy: tool exit $?"
+  "$tool" --format ply "$work/welded/Wuson.ply" "$work/cli_welded" >/dev/null 2>&1 || fail "welded copy: tool exit $?"
   a=() b=()
   for l in 4 3 2 1 0; do a+=("$work/cli_stl_soup/Wuson_LOD$l.ply"); b+=("$work/cli_welded/Wuson_LOD$l.ply"); done
   same_levels "${a[@]}" "${b[@]}" && pass "STL soup and its welded copy (MeshLab's): the same levels" ||

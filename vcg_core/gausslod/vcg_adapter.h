@@ -118,6 +118,20 @@ uint64_t colourBits(const Colour &c)
 	return uint64_t(c[0]) | uint64_t(c[1]) << 8 | uint64_t(c[2]) << 16 | uint64_t(c[3]) << 24;
 }
 
+/// The per-vertex attributes of `v` that `attrs` lists, as a key (exact bit patterns).
+template <class Vertex>
+Words3 vertexAttributeKey(const Vertex &v, const MeshAttributes &attrs)
+{
+	Words3 k{{0, 0, 0}};
+	if (attrs.vertColor)
+		k.w[0] = colourBits(v.cC());
+	if (attrs.vertQuality)
+		k.w[0] |= floatBits(float(v.cQ())) & 0xffffffff00000000ull;
+	if (attrs.vertTexCoord)
+		k.w[1] = floatBits(v.cT().u(), v.cT().v()), k.w[2] = uint16_t(v.cT().n());
+	return k;
+}
+
 } // namespace detail
 
 /// flatten() with what keeps attributes exact: with `attrs` set, face keys from materials
@@ -165,16 +179,8 @@ FlatMesh flattenWithAttributes(const MeshT &m, const MeshAttributes &attrs, cons
 			detail::IdMap<detail::Words3> id;
 			for (size_t i = 0; i < m.vert.size(); ++i) {
 				const auto &v = m.vert[i];
-				if (v.IsD())
-					continue;
-				detail::Words3 k{{0, 0, 0}};
-				if (attrs.vertColor)
-					k.w[0] = detail::colourBits(v.cC());
-				if (attrs.vertQuality)
-					k.w[0] |= detail::floatBits(float(v.cQ())) & 0xffffffff00000000ull;
-				if (attrs.vertTexCoord)
-					k.w[1] = detail::floatBits(v.cT().u(), v.cT().v()), k.w[2] = uint16_t(v.cT().n());
-				vertexKey[i] = id(k);
+				if (!v.IsD())
+					vertexKey[i] = id(detail::vertexAttributeKey(v, attrs));
 			}
 		}
 		out.cornerKey.resize(3 * nF);
@@ -260,20 +266,30 @@ void toVcgMeshWithAttributes(const LevelMesh &level, const FlatMesh &flat, const
 	}
 	out.Clear();
 	const size_t nf = level.triangles.size() / 3;
-	// one output vertex per level vertex, or per input vertex of a source corner
-	std::vector<int32_t> vertexOf(attrs.perVertex() ? flat.positions.size() / 3
-	                                                : level.positions.size() / 3,
-	                              -1);
+	// one output vertex per level vertex and distinct per-vertex attributes of the input
+	// vertices its corners copy (welded copies with equal values stay one vertex)
+	std::vector<uint32_t> attrId; // per flat vertex
+	if (attrs.perVertex()) {
+		detail::IdMap<detail::Words3> id;
+		attrId.resize(flat.vertIndex.size());
+		for (size_t i = 0; i < attrId.size(); ++i)
+			attrId[i] = id(detail::vertexAttributeKey(in.vert[size_t(flat.vertIndex[i])], attrs));
+	}
+	std::vector<int32_t> vertexOf(level.positions.size() / 3, -1); // (one attribute set)
+	std::unordered_map<uint64_t, int32_t> vertexOfPair;             // (several)
 	std::vector<int32_t> corner(3 * nf), levelVertex;
 	for (size_t c = 0; c < 3 * nf; ++c) {
 		const int32_t lv = level.triangles[c];
-		const size_t key = attrs.perVertex() ? size_t(flat.triangles[size_t(level.sourceCorner[c])])
-		                                     : size_t(lv);
-		if (vertexOf[key] < 0) {
-			vertexOf[key] = int32_t(levelVertex.size());
+		int32_t *slot = &vertexOf[size_t(lv)];
+		if (attrs.perVertex()) {
+			const uint32_t a = attrId[size_t(flat.triangles[size_t(level.sourceCorner[c])])];
+			slot = &vertexOfPair.emplace(uint64_t(uint32_t(lv)) << 32 | a, -1).first->second;
+		}
+		if (*slot < 0) {
+			*slot = int32_t(levelVertex.size());
 			levelVertex.push_back(lv);
 		}
-		corner[c] = vertexOf[key];
+		corner[c] = *slot;
 	}
 	auto vi = vcg::tri::Allocator<OutT>::AddVertices(out, levelVertex.size());
 	std::vector<int32_t> origin(levelVertex.size()); // an input (flat) vertex of each output one

@@ -1,0 +1,75 @@
+// The gausslod tool's input mesh and level files: what a file carries besides its triangles
+// (colours, texture coordinates, textures, materials, normals) is read with VCG's importers and
+// written back into every level with VCG's exporters, each value copied from the input corner or
+// face the level's corner or face replaces (gausslod/vcg_adapter.h). Files without such
+// attributes take the lean path (IoMesh, the fast PLY writer of level_ply.h).
+#pragma once
+
+#include "cli.h"
+
+#include "gausslod/vcg_adapter.h"
+#include "gausslod_io/export_mesh.h"
+#include "gausslod_io/import_mesh.h"
+#include "gausslod_io/io_mesh.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace cli {
+
+/// The input as the levels need it.
+struct InputMesh {
+	gausslod::FlatMesh flat;                                     ///< what the engine works on
+	gausslod::MeshFormat format = gausslod::MeshFormat::Unknown; ///< of the input file
+	std::string folder;             ///< the input's folder (textures are relative to it)
+	bool normals = false;           ///< per-vertex normals (recomputed for each level)
+	gausslod::MeshAttributes attrs; ///< the attributes read (and carried)
+	std::unique_ptr<gausslod::IoAttrMesh> mesh;    ///< the input, kept while its levels are written
+	                                               ///< (only with attributes)
+	std::vector<vcg::tri::io::Material> materials; ///< OBJ: VCG's materials (map_Kd local)
+	std::vector<int> faceMaterial;                 ///< OBJ: per VCG face of `mesh`
+	bool hasColour() const
+	{
+		return attrs.vertColor || attrs.faceColor || attrs.vertTexCoord || attrs.wedgeTexCoord;
+	}
+};
+
+/// Reads `path` (guarded VCG importers) and flattens it with the delimiters of `p`.
+bool readInputMesh(const std::string &path, const gausslod::Params &p, InputMesh &in,
+                   gausslod::ReadError &error);
+
+/// Writes the levels of one input into one folder.
+class LevelWriter {
+public:
+	/// `format` Unknown = the input's.
+	LevelWriter(const InputMesh &in, const Options &o, const std::string &outdir);
+	gausslod::MeshFormat format() const { return format_; }
+	/// The input's attributes the files carry, in a fixed order (vertex_normal, vertex_colour,
+	/// vertex_quality, vertex_uv, wedge_uv, texture, face_colour).
+	const std::vector<std::string> &attributes() const { return attributes_; }
+	/// Faces coloured by superface.
+	bool superfaceColours() const { return superfaceColours_; }
+	/// Writes `level` as OUTDIR/<stem>_LOD<i>.<ext> (OBJ: and its <name>.mtl), each under a
+	/// temporary name first. `files` gets the level's file (then its material file, if any);
+	/// `vertices` the file's vertex count (with attributes a vertex of the engine's level is
+	/// split where its corners' attributes differ).
+	bool write(const gausslod::LevelMesh &level, const std::string &stem,
+	           std::vector<std::string> &files, size_t &vertices, std::string &error) const;
+
+private:
+	template <class MeshT>
+	bool exportLevel(MeshT &mesh, const std::string &name, const std::vector<int> &sourceFaces,
+	                 std::vector<std::string> &files, std::string &error) const;
+
+	const InputMesh &in_;
+	std::string outdir_;
+	gausslod::MeshFormat format_;
+	gausslod::MeshAttributes outAttrs_; // what is copied from the input
+	bool superfaceColours_ = false;
+	int mask_ = 0;                      // vcg::tri::io::Mask bits written
+	std::vector<std::string> textures_; // names as written (relative to OUTDIR)
+	std::vector<std::string> attributes_;
+};
+
+} // namespace cli
