@@ -171,8 +171,12 @@ level_stats() {
     's/.*bound ([0-9.]+) deg\): .* ([0-9,]+) superfaces, ([0-9,]+) fallbacks.*max ([0-9.]+) deg, mean ([0-9.]+) deg; ([0-9.]+) s.*/\1 \2 \3 \4 \5 \6/p' |
     tr -d ','
 }
+# the distance bound the tolerance check measured (% of the diagonal), if the tolerance is on
+level_distance() {
+  grep -m1 "^LOG: [0-9]* LOD$1 (" "$log" | LC_ALL=C sed -E -n 's/.*; distance bound ([0-9.]+) % of the diagonal.*/\1/p'
+}
 missing=0
-fmt='%-6s %10s %10s %10s %9s %9s %9s %9s %8s  %s\n'
+fmt='%-6s %10s %10s %10s %9s %9s %9s %9s %8s %10s  %s\n'
 repairs=$(grep -m1 -o 'Input repairs (the input layer is unchanged): .*' "$log" || true)
 [ -z "$repairs" ] || echo "${repairs/ (the input layer is unchanged)/}"
 carried=$(grep -m1 -o 'Carried to the levels: .*' "$log" || true)
@@ -197,8 +201,8 @@ if [ -n "$textures" ] && [ "$in_dir" != "$outdir" ]; then
     fi
   done < <(echo "$textures" | sed 's/ | /\n/g')
 fi
-printf "$fmt" level faces vertices superfaces fallbacks bound maxdev meandev seconds file
-printf "$fmt" input "$in_faces" "$in_verts" - - - - - - "$input"
+printf "$fmt" level faces vertices superfaces fallbacks bound maxdev meandev seconds distbound% file
+printf "$fmt" input "$in_faces" "$in_verts" - - - - - - - "$input"
 for i in "${!levels[@]}"; do
   f=${outputs[$i]}
   if [ ! -s "$f" ]; then
@@ -214,8 +218,9 @@ for i in "${!levels[@]}"; do
     END { if (!ok) exit 1 }' "$f") || { echo "$me: not a PLY file: $f" >&2; missing=1; continue; }
   read -r faces verts <<<"$counts"
   read -r bound sf fb maxdev meandev secs <<<"$(level_stats "${levels[$i]}")" || true
+  dist=$(level_distance "${levels[$i]}")
   printf "$fmt" "LOD${levels[$i]}" "$faces" "$verts" "${sf:--}" "${fb:--}" "${bound:--}" \
-    "${maxdev:--}" "${meandev:--}" "${secs:--}" "$f"
+    "${maxdev:--}" "${meandev:--}" "${secs:--}" "${dist:--}" "$f"
 done
 if [ $missing -ne 0 ]; then
   show_log

@@ -61,11 +61,17 @@ a=$(ply_faces "$work/json/fandisk_LOD4.ply") p=$(ply_faces "$work/paper/fandisk_
 [ "$p" -gt "$a" ] && pass "--paper-superfaces: LOD4 $p faces vs $a merged across cells" ||
   fail "--paper-superfaces: LOD4 $p faces, default $a"
 
-# 5b. --max-distance: coarser levels keep more faces than without it (fandisk L0 flattens by ~2.6 %)
-"$tool" --format ply --max-distance 0.1 "$data/fandisk.off" "$work/dist" >/dev/null 2>&1 || fail "--max-distance: exit $?"
-a=$(ply_faces "$work/json/fandisk_LOD0.ply") d=$(ply_faces "$work/dist/fandisk_LOD0.ply")
-[ "$d" -gt "$a" ] && pass "--max-distance 0.1: LOD0 $d faces vs $a without" ||
-  fail "--max-distance 0.1: LOD0 $d faces, default $a"
+# 5b. --max-distance: coarser levels keep more faces than without it (fandisk L0 flattens by ~2.6 %
+# with normals alone, --max-distance 0); the default grows 0.02 % by 2 per level (0.32 % at LOD0)
+"$tool" --format ply --max-distance 0 "$data/fandisk.off" "$work/nodist" >/dev/null 2>&1 || fail "--max-distance 0: exit $?"
+"$tool" --format ply --max-distance 0.1 --distance-growth 1 "$data/fandisk.off" "$work/dist" >/dev/null 2>&1 ||
+  fail "--max-distance: exit $?"
+n=$(ply_faces "$work/nodist/fandisk_LOD0.ply") d=$(ply_faces "$work/dist/fandisk_LOD0.ply")
+a=$(ply_faces "$work/json/fandisk_LOD0.ply")
+[ "$d" -gt "$n" ] && pass "--max-distance 0.1: LOD0 $d faces vs $n without" ||
+  fail "--max-distance 0.1: LOD0 $d faces, $n without"
+[ "$a" -gt "$n" ] && [ "$a" -lt "$d" ] && pass "default (0.32 % at LOD0): LOD0 $a faces, between" ||
+  fail "default: LOD0 $a faces, not between $n (no tolerance) and $d (0.1 % at every level)"
 
 # 6. errors: exit code and message
 expect() { # NAME CODE TEXT ARGS...
@@ -102,8 +108,11 @@ expect short_face 4 "short_face.off: " "$work/short_face.off" "$work/x"
 # 8. welding: an STL soup that nobody here made (Debian's assimp-testmodels; every triangle has its
 # own three vertices, as in most STL files) is simplified; --no-weld keeps every face apart
 stl=${GAUSSLOD_ASSIMP_MODELS:-/usr/share/assimp/models}/STL/Wuson.stl
-"$tool" --format ply --json "$stl" "$work/wuson" >"$work/wuson.txt" 2>&1 || fail "Wuson.stl: exit $?: $(cat "$work/wuson.txt")"
-"$tool" --format ply --no-weld "$stl" "$work/wuson_nw" >/dev/null 2>&1 || fail "Wuson.stl --no-weld: exit $?"
+# (normals alone, --max-distance 0: the figure is about welding)
+"$tool" --format ply --max-distance 0 --json "$stl" "$work/wuson" >"$work/wuson.txt" 2>&1 ||
+  fail "Wuson.stl: exit $?: $(cat "$work/wuson.txt")"
+"$tool" --format ply --max-distance 0 --no-weld "$stl" "$work/wuson_nw" >/dev/null 2>&1 ||
+  fail "Wuson.stl --no-weld: exit $?"
 in=$(( ($(stat -c %s "$stl") - 84) / 50 ))
 w=$(ply_faces "$work/wuson/Wuson_LOD0.ply") nw=$(ply_faces "$work/wuson_nw/Wuson_LOD0.ply")
 [ "$w" -lt $((in * 7 / 10)) ] && [ "$nw" = "$in" ] &&

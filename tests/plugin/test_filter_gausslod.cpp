@@ -228,10 +228,13 @@ TEST_F(GaussLodPlugin, a_distance_tolerance_keeps_more_faces_where_levels_would_
 	loadOffLayer(free, dataFile("cow.off"));
 	MeshModel *input = loadOffLayer(bounded, dataFile("cow.off"));
 	const LayerSnapshot before(*input);
-	ASSERT_TRUE(apply(free, defaults(free)));
+	RichParameterList normalsOnly = defaults(free);
+	normalsOnly.setValue("maxDistance", AbsPercValue(0.0f)); // (the paper)
+	ASSERT_TRUE(apply(free, normalsOnly));
 	RichParameterList par = defaults(bounded);
 	const float diag = bounded.mm()->cm.bbox.Diag();
 	par.setValue("maxDistance", AbsPercValue(0.001f * diag));
+	par.setValue("distanceGrowth", FloatValue(1.0f)); // (0.1 % at every level)
 	ASSERT_TRUE(apply(bounded, par)) << qUtf8Printable(filter->errorMsg());
 	EXPECT_TRUE(LayerSnapshot(*input) == before);
 	ASSERT_EQ(free.size(), bounded.size());
