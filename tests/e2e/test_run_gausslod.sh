@@ -40,7 +40,7 @@ check_levels() {
     if [ "$prev" -ge 0 ] && [ "$faces" -gt "$prev" ]; then
       fail "$f: $faces faces, more than the finer level ($prev)"
     fi
-    grep -Eq "^LOD$level +$faces +$verts +[0-9]+ +[0-9]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +$f\$" "$log" ||
+    grep -Eq "^LOD$level +$faces +$verts +[0-9]+ +[0-9]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +([0-9.]+|-) +$f\$" "$log" ||
       fail "runner table has no row 'LOD$level $faces $verts ... $f' with the filter's figures"
     prev=$faces
   done
@@ -50,6 +50,14 @@ check_levels() {
 run cow "$data/cow.off" "$work/cow"
 if [ $rc -eq 0 ]; then pass "cow: exit 0"; else fail "cow: exit $rc"; fi
 check_levels "$work/cow" cow "$work/cow.log" 4 3 2 1 0
+# the default distance tolerance: 0.02 % of the diagonal at LOD4, doubled per coarser level; each
+# row's distbound% (what the check measured) within its level's
+for level in 4 3 2 1 0; do
+  d=$(awk -v l="LOD$level" '$1 == l { print $(NF - 1) }' "$work/cow.log")
+  awk -v d="$d" -v l="$level" 'BEGIN { exit !(d != "-" && d + 0 <= 0.02 * 2 ^ (4 - l) * 1.0001) }' &&
+    pass "cow LOD$level: distance bound $d % within the default tolerance" ||
+    fail "cow LOD$level: distance bound '$d' %, tolerance $(awk -v l="$level" 'BEGIN { print 0.02 * 2 ^ (4 - l) }') %"
+done
 [ "$(ls "$work/cow" | wc -l)" -eq 5 ] || fail "cow: expected exactly 5 files, got: $(ls "$work/cow")"
 in_faces=$(awk '$1 == "input" { print $2 }' "$work/cow.log")
 lod0=$(ply_counts "$work/cow/cow_LOD0.ply" 2>/dev/null | cut -d' ' -f1)
