@@ -428,7 +428,8 @@ class Bench:
     def distance_variant(self, name, ply, info, done, methods):
         """GaussLOD with a distance tolerance, and the quadric peers at its face counts."""
         log("model %s: GaussLOD --max-distance %g" % (name, DIST_PCT))
-        levels, gr, err = self.gausslod(name, ply, ["--max-distance", str(DIST_PCT)], "gausslod_dist")
+        levels, gr, err = self.gausslod(name, ply, ["--max-distance", str(DIST_PCT), "--distance-growth", "1"],
+                                        "gausslod_dist")
         if err:
             self.add_row(name, "gausslod_dist", None, None, {"error": err, "peak_mb": gr["peak_mb"]}, ply)
             return
@@ -806,7 +807,7 @@ def bars(bench):
     dratios, dlines = hausdorff_vs_quadric("gausslod_dist", "dist")
     if dratios:
         L.append("")
-        L.append("With the distance tolerance (`--max-distance %g`: no removed input vertex, and no point of an "
+        L.append("With a uniform distance tolerance (`--max-distance %g --distance-growth 1`: no removed input vertex, and no point of an "
                  "input face, farther than %g %% of the diagonal from the output, as GaussLOD measures it), the "
                  "quadric methods run again at those levels' face counts: %s." % (
                      DIST_PCT, DIST_PCT, ratio_summary(dratios)))
