@@ -358,12 +358,10 @@ bool FilterGaussLodPlugin::buildGaussSphereLods(MeshDocument &md, const RichPara
 
 	FilterRequest req;
 	QString error;
-	{
-		const gausslod::FlatMesh plain = gausslod::flatten(input->cm); // (for the diagonal)
-		if (!readRequest(par, gausslod::bboxDiagonal(plain.view()), req, error)) {
-			errorMessage = error;
-			return false;
-		}
+	gausslod::FlatMesh flat = gausslod::flatten(input->cm);
+	if (!readRequest(par, gausslod::bboxDiagonal(flat.view()), req, error)) {
+		errorMessage = error;
+		return false;
 	}
 	if (req.selectedOnly && vcg::tri::UpdateSelection<CMeshO>::FaceCount(input->cm) == 0) {
 		errorMessage = "'Only selected faces' is on, but no face of the layer is selected.";
@@ -371,8 +369,7 @@ bool FilterGaussLodPlugin::buildGaussSphereLods(MeshDocument &md, const RichPara
 	}
 	const gausslod::MeshAttributes attrs = layerAttributes(*input);
 	QWidget *const gui = mainWindow();
-	const gausslod::FlatMesh flat =
-	    gausslod::flattenWithAttributes(input->cm, attrs, req.params, req.selectedOnly);
+	gausslod::addAttributes(input->cm, attrs, req.params, req.selectedOnly, flat);
 	const gausslod::MeshView view = flat.view();
 	const double diag = gausslod::bboxDiagonal(view);
 	// real colours stay unless asked; superface colours need per-face colour on the layer

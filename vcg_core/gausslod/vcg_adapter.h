@@ -6,8 +6,8 @@
 
 #include <vcg/complex/complex.h>
 
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <unordered_map>
 #include <vector>
@@ -20,9 +20,9 @@ namespace gausslod {
 struct FlatMesh {
 	std::vector<double> positions;
 	std::vector<int32_t> triangles;
-	std::vector<uint32_t> faceKey, cornerKey; ///< empty = none (see MeshView)
-	std::vector<float> cornerUV;              ///< empty = none (see MeshView)
-	std::vector<uint8_t> keepFace;            ///< empty = none (see MeshView)
+	std::vector<uint32_t> faceKey, cornerKey;  ///< empty = none (see MeshView)
+	std::vector<float> cornerUV;               ///< empty = none (see MeshView)
+	std::vector<uint8_t> keepFace;             ///< empty = none (see MeshView)
 	std::vector<int32_t> vertIndex, faceIndex; ///< VCG index per flat vertex / face (attributes)
 	MeshView view() const
 	{
@@ -134,18 +134,17 @@ Words3 vertexAttributeKey(const Vertex &v, const MeshAttributes &attrs)
 
 } // namespace detail
 
-/// flatten() with what keeps attributes exact: with `attrs` set, face keys from materials
-/// (texture index, face colour; Params::keepMaterials), the selection (`selectedOnly`: every
-/// unselected face is kept as it is, MeshView::keepFace), corner keys from texture
+/// Adds to `out = flatten(m)` what keeps attributes exact: with `attrs` set, face keys from
+/// materials (texture index, face colour; Params::keepMaterials), the selection (`selectedOnly`:
+/// every unselected face is kept as it is, MeshView::keepFace), corner keys from texture
 /// coordinates and per-vertex colour / quality of the corner's own vertex (Params::keepSeams),
 /// the corners' texture coordinates, and the sources asked for. Normals are never keys.
 template <class MeshT>
-FlatMesh flattenWithAttributes(const MeshT &m, const MeshAttributes &attrs, const Params &params,
-                               bool selectedOnly = false)
+void addAttributes(const MeshT &m, const MeshAttributes &attrs, const Params &params,
+                   bool selectedOnly, FlatMesh &out)
 {
-	FlatMesh out = flatten(m);
 	if (!attrs.any() && !selectedOnly)
-		return out;
+		return;
 	for (size_t i = 0; i < m.vert.size(); ++i)
 		if (!m.vert[i].IsD())
 			out.vertIndex.push_back(int32_t(i));
@@ -205,6 +204,15 @@ FlatMesh flattenWithAttributes(const MeshT &m, const MeshAttributes &attrs, cons
 				out.cornerUV[6 * f + 2 * size_t(k) + 1] = t.v();
 			}
 	}
+}
+
+/// flatten() and addAttributes() in one.
+template <class MeshT>
+FlatMesh flattenWithAttributes(const MeshT &m, const MeshAttributes &attrs, const Params &params,
+                               bool selectedOnly = false)
+{
+	FlatMesh out = flatten(m);
+	addAttributes(m, attrs, params, selectedOnly, out);
 	return out;
 }
 
@@ -276,7 +284,7 @@ void toVcgMeshWithAttributes(const LevelMesh &level, const FlatMesh &flat, const
 			attrId[i] = id(detail::vertexAttributeKey(in.vert[size_t(flat.vertIndex[i])], attrs));
 	}
 	std::vector<int32_t> vertexOf(level.positions.size() / 3, -1); // (one attribute set)
-	std::unordered_map<uint64_t, int32_t> vertexOfPair;             // (several)
+	std::unordered_map<uint64_t, int32_t> vertexOfPair;            // (several)
 	std::vector<int32_t> corner(3 * nf), levelVertex;
 	for (size_t c = 0; c < 3 * nf; ++c) {
 		const int32_t lv = level.triangles[c];
