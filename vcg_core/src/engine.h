@@ -152,7 +152,8 @@ struct FaceGrid {
 
 	static uint64_t bucketOf(int64_t x, int64_t y, int64_t z, uint64_t mask)
 	{
-		const uint64_t h = uint64_t(x) * 73856093u ^ uint64_t(y) * 19349663u ^ uint64_t(z) * 83492791u;
+		const uint64_t h =
+		    uint64_t(x) * 73856093u ^ uint64_t(y) * 19349663u ^ uint64_t(z) * 83492791u;
 		return (h ^ (h >> 29)) & mask;
 	}
 	int64_t index(double x, int k) const { return int64_t(std::floor((x - lo[k]) / cell)); }
@@ -198,7 +199,8 @@ struct FaceGrid {
 		const uint32_t s = cone >> 24;
 		if (s >= 255)
 			return false;
-		const double ax = int8_t(cone & 0xff), ay = int8_t((cone >> 8) & 0xff), az = int8_t((cone >> 16) & 0xff);
+		const double ax = int8_t(cone & 0xff), ay = int8_t((cone >> 8) & 0xff),
+		             az = int8_t((cone >> 16) & 0xff);
 		const double d = ax * t[0] + ay * t[1] + az * t[2], bound = double(s) / 254.0;
 		return d > 0 && d * d >= bound * bound * (ax * ax + ay * ay + az * az);
 	}
@@ -207,7 +209,8 @@ struct FaceGrid {
 /// Worker threads for `requested` (0 = one per core), at most 64.
 inline size_t threadCount(int requested)
 {
-	const size_t n = requested > 0 ? size_t(requested) : size_t(std::thread::hardware_concurrency());
+	const size_t n =
+	    requested > 0 ? size_t(requested) : size_t(std::thread::hardware_concurrency());
 	return std::max<size_t>(1, std::min<size_t>(n, 64));
 }
 
@@ -255,12 +258,12 @@ struct Topology {
 	const double *P = nullptr;  ///< xyz per vertex (the caller's array)
 	const int32_t *T = nullptr; ///< 3 per face (the caller's array)
 	double diagonal = 0;
-	const float *UV = nullptr; ///< 2 per face corner (MeshView::cornerUV), optional
-	bool wantSources = false;  ///< MeshView::wantSources
+	const float *UV = nullptr;         ///< 2 per face corner (MeshView::cornerUV), optional
+	bool wantSources = false;          ///< MeshView::wantSources
 	const uint8_t *keepFace = nullptr; ///< MeshView::keepFace, optional
 
-	std::vector<Vec3> faceNormal;  ///< unit normal (zero for invalid faces)
-	std::vector<double> faceArea;  ///< area
+	std::vector<Vec3> faceNormal;   ///< unit normal (zero for invalid faces)
+	std::vector<double> faceArea;   ///< area
 	std::vector<uint8_t> faceValid; ///< distinct vertices, finite, non-zero area
 	/// Faces that are no triangles (a repeated vertex index) or repeat an earlier face's vertex
 	/// set: left out of the adjacency and of every level.
@@ -275,16 +278,13 @@ struct Topology {
 	/// Vertices that are never removed or moved: on non-manifold or inconsistent edges, on invalid
 	/// faces, or with more than one fan of faces (non-manifold vertex).
 	std::vector<uint8_t> vertexLocked;
-	std::vector<uint8_t> vertexClass; ///< VertexClass (2.3.2)
+	std::vector<uint8_t> vertexClass;     ///< VertexClass (2.3.2)
 	std::vector<int32_t> vfStart, vfFace; ///< vertex -> incident faces (CSR)
 	FaceGrid grid;                        ///< the valid faces, for nearest-face queries
 
 	Vec3 pos(int32_t v) const { return Vec3(P[3 * v], P[3 * v + 1], P[3 * v + 2]); }
 	/// The twin a superface may grow across: -1 on a delimiter.
-	int32_t joinTwin(size_t h) const
-	{
-		return delimiter.empty() || !delimiter[h] ? twin[h] : -1;
-	}
+	int32_t joinTwin(size_t h) const { return delimiter.empty() || !delimiter[h] ? twin[h] : -1; }
 	int32_t heFrom(int32_t h) const { return T[h]; }
 	int32_t heTo(int32_t h) const { return T[heNext(h)]; }
 };
@@ -295,12 +295,12 @@ struct Partition {
 	/// Superface per input face, 0..count-1, canonical: every id is used and ids are in the order
 	/// of the superfaces' first (lowest) faces (deterministic, and what keeps renumberings linear).
 	std::vector<int32_t> label;
-	std::vector<CellKey> cell;    ///< per superface, a cell of `level`; kInvalidCell = frozen
-	                              ///< (invalid input face: kept as it is, never merged)
-	std::vector<int8_t> origin;   ///< per superface: level of the partition it comes from (its
-	                              ///< children are that level+1's superfaces); -1 = one input face;
-	                              ///< mergedOrigin(L) = a union across cells made at level L (its
-	                              ///< children are level L's parts below)
+	std::vector<CellKey> cell;  ///< per superface, a cell of `level`; kInvalidCell = frozen
+	                            ///< (invalid input face: kept as it is, never merged)
+	std::vector<int8_t> origin; ///< per superface: level of the partition it comes from (its
+	                            ///< children are that level+1's superfaces); -1 = one input face;
+	                            ///< mergedOrigin(L) = a union across cells made at level L (its
+	                            ///< children are level L's parts below)
 	/// The partition before merging across cells (empty if nothing was merged): the parts a
 	/// cross-cell union falls back to, with their cells and origins.
 	std::vector<int32_t> partLabel;
@@ -330,7 +330,8 @@ void finestPartition(const Topology &topo, int level, Partition &out);
 
 /// 2.5 Merges superfaces of sibling cells of `fine` into the partition of level fine.level-1.
 /// A superface grown from several of them gets origin `grownOrigin` (where its children are).
-void coarserPartition(const Topology &topo, const Partition &fine, Partition &out, int8_t grownOrigin);
+void coarserPartition(const Topology &topo, const Partition &fine, Partition &out,
+                      int8_t grownOrigin);
 
 /// Beyond the paper: merges adjacent superfaces whose normals together still fit in a cone of
 /// angular diameter boundDeg (at most what one cell of the level holds), across cell borders; a
@@ -344,24 +345,31 @@ void mergeAcrossCells(const Topology &topo, double boundDeg, Partition &p);
 /// Stops early, leaving `out` without a mesh and out.stats.faces > faceLimit, once a round's valid
 /// triangles plus the triangles of the failed superfaces' attempts (at least one each) exceed
 /// `faceLimit` (the caller then keeps the finer level, which has that many faces).
+/// What splitting a superface back into the finer level's superfaces costs (insertFarthest): per
+/// input face f, the finer level's triangles per face of f's superface there, share[label[f]].
+struct SplitCost {
+	const std::vector<int32_t> *label = nullptr; ///< the finer partition's labels
+	std::vector<float> share;                    ///< per finer superface
+	float at(size_t f) const { return share[size_t((*label)[f])]; }
+};
 void buildLevelGeometry(const Topology &topo, const Params &params,
                         const std::vector<Partition> &finer, Partition &p, LevelMesh &out,
-                        size_t faceLimit, const std::vector<float> *finerShare = nullptr);
-/// Per input face: the triangles of its superface in `level` (built on partition p) divided by
-/// the superface's faces (the cost of a split into p's superfaces, see insertFarthest).
-void triangleShare(const Partition &p, const LevelMesh &level, std::vector<float> &share);
+                        size_t faceLimit, const SplitCost *finerCost = nullptr);
+/// The cost of a split into p's superfaces: per superface of p, its triangles in `level` (built
+/// on p) divided by its faces.
+void triangleShare(const Partition &p, const LevelMesh &level, SplitCost &cost);
 
 /// 2.4 Constrained Delaunay triangulation of one superface's projected rings (CGAL).
 struct TriangulationJob {
-	std::vector<double> xy;          ///< 2 per ring vertex, rings concatenated, then 2 per
-	                                 ///< interior point (inserted, not constrained)
-	std::vector<int32_t> ringStart;  ///< ring r = [ringStart[r], ringStart[r+1]) ; size rings+1
-	std::vector<double> queryXY;     ///< points to locate in the result (2 per query)
+	std::vector<double> xy;         ///< 2 per ring vertex, rings concatenated, then 2 per
+	                                ///< interior point (inserted, not constrained)
+	std::vector<int32_t> ringStart; ///< ring r = [ringStart[r], ringStart[r+1]) ; size rings+1
+	std::vector<double> queryXY;    ///< points to locate in the result (2 per query)
 	// out
-	std::vector<int32_t> tris;       ///< 3 local ring-vertex indices per triangle, CCW
-	std::vector<uint8_t> constrained;///< per triangle: bit k = edge (k,k+1) is a ring edge
-	std::vector<int32_t> queryTri;   ///< triangle containing each query (or, just outside the
-	                                 ///< domain, the one across the ring edge); else -1
+	std::vector<int32_t> tris;        ///< 3 local ring-vertex indices per triangle, CCW
+	std::vector<uint8_t> constrained; ///< per triangle: bit k = edge (k,k+1) is a ring edge
+	std::vector<int32_t> queryTri;    ///< triangle containing each query (or, just outside the
+	                                  ///< domain, the one across the ring edge); else -1
 };
 /// Returns false when the rings are not a valid planar domain: two ring vertices coincide, ring
 /// edges cross or overlap, or a ring edge is missing from the result. One ring of at most

@@ -81,7 +81,8 @@ size_t uncoveredFaces(const detail::Topology &t, const LevelMesh &lm)
 	size_t lost = 0;
 	for (size_t f = 0; f < t.nF; ++f) {
 		const int32_t sf = f < lm.inputSuperface.size() ? lm.inputSuperface[f] : -1;
-		lost += !t.faceDropped[f] && (sf < 0 || size_t(sf) >= covered.size() || !covered[size_t(sf)]);
+		lost +=
+		    !t.faceDropped[f] && (sf < 0 || size_t(sf) >= covered.size() || !covered[size_t(sf)]);
 	}
 	return lost;
 }
@@ -141,8 +142,9 @@ bool prepare(const MeshView &input, const Params &params, Result &res, MeshView 
 	if (res.input.facesSkipped() == mesh.faceCount)
 		return fail(res, ErrorKind::BadInput,
 		            "every face repeats a vertex or an earlier face (" +
-		                std::to_string(res.input.facesRepeatedVertex) + " with a repeated vertex, " +
-		                std::to_string(res.input.facesDuplicate) + " repeated): nothing to simplify");
+		                std::to_string(res.input.facesRepeatedVertex) +
+		                " with a repeated vertex, " + std::to_string(res.input.facesDuplicate) +
+		                " repeated): nothing to simplify");
 	return true;
 }
 
@@ -245,14 +247,15 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 		});
 		const double setup = since(t0);
 		res.levels.reserve(size_t(params.maxLevel));
-		LevelMesh finer; // the previous (finer) level
-		std::vector<float> finerShare; // (with the distance tolerance, see triangleShare)
+		LevelMesh finer;     // the previous (finer) level
+		SplitCost finerCost; // (with the distance tolerance, see triangleShare)
 		for (int level = finest; level >= 0; --level) {
 			const auto tl = std::chrono::steady_clock::now();
 			if (!report(0.05 + 0.95 * double(finest - level) / params.maxLevel, "building level"))
 				return false;
 			if (level < finest) {
-				coarserPartition(topo, parts[size_t(level) + 1], parts[size_t(level)], int8_t(level));
+				coarserPartition(topo, parts[size_t(level) + 1], parts[size_t(level)],
+				                 int8_t(level));
 				if (across)
 					mergeAcrossCells(topo, acrossLimit(level), parts[size_t(level)]);
 			}
@@ -260,18 +263,18 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			lm.stats.secondsPartition = since(tl) + (level == finest ? setup : 0.0);
 			const bool share = level < finest && params.maxDistance > 0;
 			if (share)
-				triangleShare(parts[size_t(level) + 1], finer, finerShare);
+				triangleShare(parts[size_t(level) + 1], finer, finerCost);
 			buildLevelGeometry(topo, params, parts, parts[size_t(level)], lm,
 			                   level < finest ? finer.stats.faces : SIZE_MAX,
-			                   share ? &finerShare : nullptr);
+			                   share ? &finerCost : nullptr);
 			if (level < finest && lm.stats.faces > finer.stats.faces)
 				keepFinerLevel(mesh, level, parts, finer, lm);
 			lm.stats.seconds = since(tl) + (level == finest ? setup : 0.0);
 			lm.stats.input = res.input;
 			if (const size_t lost = uncoveredFaces(topo, lm))
 				return fail(res, ErrorKind::Internal,
-				            "internal error: level " + std::to_string(level) + " lost the surface of " +
-				                std::to_string(lost) +
+				            "internal error: level " + std::to_string(level) +
+				                " lost the surface of " + std::to_string(lost) +
 				                " input faces (no output triangle for their superface)");
 			const bool wanted = params.outputLevels & (1u << level);
 			if (wanted && sink && !sink(lm))

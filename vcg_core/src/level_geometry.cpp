@@ -103,9 +103,8 @@ private:
 class LevelRounds {
 public:
 	LevelRounds(const Topology &t, const Params &prm, const std::vector<Partition> &finer,
-	            Partition &p, LevelMesh &out, size_t faceLimit,
-	            const std::vector<float> *finerShare)
-	    : t_(t), finer_(finer), p_(p), out_(out), faceLimit_(faceLimit), finerShare_(finerShare),
+	            Partition &p, LevelMesh &out, size_t faceLimit, const SplitCost *finerCost)
+	    : t_(t), finer_(finer), p_(p), out_(out), faceLimit_(faceLimit), finerCost_(finerCost),
 	      limits_(levelLimits(prm, t.diagonal, p.level, t.UV != nullptr))
 	{
 		fb_.extraLock.assign(t_.nV, 0);
@@ -127,7 +126,7 @@ private:
 	Partition &p_;
 	LevelMesh &out_;
 	const size_t faceLimit_;
-	const std::vector<float> *finerShare_;
+	const SplitCost *finerCost_;
 	const LevelLimits limits_;
 	Stopwatch clock_;
 
@@ -151,7 +150,7 @@ private:
 
 	TriangulationInput triangulationInput() const
 	{
-		return TriangulationInput{t_, p_, faces_, borders_, rings_, limits_, finerShare_};
+		return TriangulationInput{t_, p_, faces_, borders_, rings_, limits_, finerCost_};
 	}
 	void buildRound(bool patch);
 	void markDirty(bool patch);
@@ -451,23 +450,22 @@ void LevelRounds::fillStats(size_t fallbacks, size_t vertices)
 
 void buildLevelGeometry(const Topology &topo, const Params &params,
                         const std::vector<Partition> &finer, Partition &p, LevelMesh &out,
-                        size_t faceLimit, const std::vector<float> *finerShare)
+                        size_t faceLimit, const SplitCost *finerCost)
 {
-	LevelRounds(topo, params, finer, p, out, faceLimit, finerShare).run();
+	LevelRounds(topo, params, finer, p, out, faceLimit, finerCost).run();
 }
 
-void triangleShare(const Partition &p, const LevelMesh &level, std::vector<float> &share)
+void triangleShare(const Partition &p, const LevelMesh &level, SplitCost &cost)
 {
-	std::vector<int32_t> tris(p.count(), 0), faces(p.count(), 0);
+	std::vector<int32_t> faces(p.count(), 0);
+	cost.share.assign(p.count(), 0.0f);
 	for (const int32_t s : level.superface)
-		++tris[size_t(s)];
+		cost.share[size_t(s)] += 1.0f;
 	for (const int32_t s : p.label)
 		++faces[size_t(s)];
-	share.resize(p.label.size());
-	for (size_t f = 0; f < share.size(); ++f) {
-		const size_t s = size_t(p.label[f]);
-		share[f] = float(tris[s]) / float(faces[s]);
-	}
+	for (size_t s = 0; s < faces.size(); ++s)
+		cost.share[s] = faces[s] > 0 ? cost.share[s] / float(faces[s]) : 0.0f;
+	cost.label = &p.label;
 }
 
 } // namespace detail

@@ -239,7 +239,7 @@ struct TriangulationInput {
 	const LevelLimits &limits;
 	/// With the distance tolerance, below the finest level: per input face, the finer level's
 	/// triangles per face of its superface there (what a split would cost; see insertFarthest).
-	const std::vector<float> *finerShare;
+	const SplitCost *finerCost;
 };
 /// Re-triangulates superface s into o (or copies its input faces when every vertex is kept) and
 /// checks it; writes the measures of its faces only.

@@ -329,10 +329,10 @@ bool insertFarthest(const TriangulationInput &in, int32_t s, const Vec3 &N, size
 	// level, the input faces)
 	double split = double(faces);
 	const int origin = in.p.origin[size_t(s)];
-	if (in.finerShare && !(origin == -1 || origin >= in.limits.finest)) {
+	if (in.finerCost && !(origin == -1 || origin >= in.limits.finest)) {
 		split = 0;
 		for (size_t i = 0; i < faces; ++i)
-			split += double((*in.finerShare)[size_t(in.faces.face[size_t(fb) + i])]);
+			split += double(in.finerCost->at(size_t(in.faces.face[size_t(fb) + i])));
 	}
 	w.farthest.assign(ntri, std::make_pair(in.limits.maxDistance, int32_t(-1)));
 	for (size_t i = 0; i < faces; ++i)
