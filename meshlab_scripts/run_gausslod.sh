@@ -104,15 +104,15 @@ fi
 [ ${#levels[@]} -gt 0 ] || die 2 "outputLevels '$output_levels' in $script selects no level"
 # What meshlabserver saves: texture coordinates and face colours are optional components of
 # MeshLab's mesh (saved only if the layer has them); vertex colour and quality are always there, so
-# they are saved only if the input file has them (its header: PLY vertex properties, OBJ 'v' lines
-# with colours, OFF's C prefix).
+# they are saved only if the input file has them as VCG reads them (PLY: uchar red or diffuse_red,
+# quality or confidence vertex properties; OBJ 'v' lines with colours; OFF's C prefix).
 vertex_attributes() { # prints vc and/or vq
   case ${input,,} in
     *.ply)
       LC_ALL=C awk '
         $1 == "element" { inv = ($2 == "vertex") }
-        inv && $1 == "property" && $NF ~ /^(red|r|diffuse_red)$/ { c = 1 }
-        inv && $1 == "property" && $NF ~ /^(quality|scalar|confidence)$/ { q = 1 }
+        inv && $1 == "property" && ($2 == "uchar" || $2 == "uint8") && $NF ~ /^(red|diffuse_red)$/ { c = 1 }
+        inv && $1 == "property" && $NF ~ /^(quality|confidence)$/ { q = 1 }
         $1 == "end_header" { exit }
         END { if (c) print "vc"; if (q) print "vq" }' "$input" 2>/dev/null || true ;;
     *.obj) LC_ALL=C awk '$1 == "v" && NF >= 7 { print "vc"; exit }' "$input" 2>/dev/null || true ;;

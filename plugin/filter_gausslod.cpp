@@ -439,8 +439,7 @@ bool FilterGaussLodPlugin::buildGaussSphereLods(MeshDocument &md, const RichPara
 		Log(QString("Input repairs (the input layer is unchanged): %1 vertices welded (%2 faces "
 		            "re-indexed); %3 faces skipped (%4 with a repeated vertex, %5 repeating an "
 		            "earlier face); %6 degenerate faces kept as they are; %7 vertices locked "
-		            "(non-manifold or inconsistently oriented edges, non-manifold vertices, "
-		            "unselected faces)")
+		            "(non-manifold or inconsistently oriented edges, non-manifold vertices%8)")
 		        .arg(thousands(in.weldedVertices))
 		        .arg(thousands(in.facesReindexed))
 		        .arg(thousands(in.facesSkipped()))
@@ -448,6 +447,7 @@ bool FilterGaussLodPlugin::buildGaussSphereLods(MeshDocument &md, const RichPara
 		        .arg(thousands(in.facesDuplicate))
 		        .arg(thousands(in.facesDegenerate))
 		        .arg(thousands(in.verticesLocked))
+		        .arg(req.selectedOnly ? ", unselected faces" : "")
 		        .toStdString());
 	if (req.selectedOnly)
 		Log(QString("Only selected faces: %1 unselected faces kept as they are in every level")

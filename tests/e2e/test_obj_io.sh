@@ -134,6 +134,14 @@ PY
 )
 check '[ -n "$got" ] && [ "$got" = "$want" ]' "runner: the level's vertex colours are the file's"
 
+# 5c. a PLY with float vertex colours, which VCG 2020.09 does not read: the levels get none
+GAUSSLOD_MESHLAB_PREFIX=$prefix "$runner" "$objdir/../PLY/float-color.ply" "$work/floatc" \
+  >"$work/runner_floatc.log" 2>&1
+check '[ $? -eq 0 ]' "runner on float-color.ply: exit 0"
+vprops=$(header "$work/floatc/float-color_LOD0.ply" |
+  awk '$1 == "element" { e = $2 } e == "vertex" && $1 == "property" { print $NF }' | tr '\n' ' ')
+check '[ "$vprops" = "x y z " ]' "runner: float-color.ply's level adds no vertex colour ($vprops)"
+
 # 6. the runner with a prefix lacking our OBJ plugin: a clear error instead of MeshLab's abort
 mkdir -p "$work/noobj/bin" "$work/noobj/lib/x86_64-linux-gnu/meshlab/plugins"
 cp -a "$prefix/bin/meshlabserver" "$work/noobj/bin/"
