@@ -283,15 +283,21 @@ void toVcgMeshWithAttributes(const LevelMesh &level, const FlatMesh &flat, const
 		for (size_t i = 0; i < attrId.size(); ++i)
 			attrId[i] = id(detail::vertexAttributeKey(in.vert[size_t(flat.vertIndex[i])], attrs));
 	}
-	std::vector<int32_t> vertexOf(level.positions.size() / 3, -1); // (one attribute set)
-	std::unordered_map<uint64_t, int32_t> vertexOfPair;            // (several)
+	// the first attribute set of each level vertex in flat arrays; the further ones (welded
+	// copies with other values, along seams) in a map
+	std::vector<int32_t> vertexOf(level.positions.size() / 3, -1);
+	std::vector<uint32_t> firstAttr(attrs.perVertex() ? vertexOf.size() : 0);
+	std::unordered_map<uint64_t, int32_t> further;
 	std::vector<int32_t> corner(3 * nf), levelVertex;
 	for (size_t c = 0; c < 3 * nf; ++c) {
 		const int32_t lv = level.triangles[c];
 		int32_t *slot = &vertexOf[size_t(lv)];
 		if (attrs.perVertex()) {
 			const uint32_t a = attrId[size_t(flat.triangles[size_t(level.sourceCorner[c])])];
-			slot = &vertexOfPair.emplace(uint64_t(uint32_t(lv)) << 32 | a, -1).first->second;
+			if (*slot < 0)
+				firstAttr[size_t(lv)] = a;
+			else if (firstAttr[size_t(lv)] != a)
+				slot = &further.emplace(uint64_t(uint32_t(lv)) << 32 | a, -1).first->second;
 		}
 		if (*slot < 0) {
 			*slot = int32_t(levelVertex.size());
