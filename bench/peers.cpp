@@ -1,14 +1,19 @@
 // bench_peers: peer simplifiers run in-process to a target face count.
 //   bench_peers meshopt IN TARGET_FACES OUT.ply
 //   bench_peers cgal_gh IN TARGET_FACES OUT.ply
+//   bench_peers openmesh_quadric IN TARGET_FACES OUT.ply
+//   bench_peers openmesh_nd IN ANGLE_DEG OUT.ply
 // meshopt: meshoptimizer's meshopt_simplify (edge collapse with quadric error; version from
 //          MESHOPTIMIZER_VERSION), options 0, target error unbounded so only the count stops it.
 // cgal_gh: CGAL Surface_mesh_simplification::edge_collapse with GarlandHeckbert_plane_policies
 //          (classic Garland-Heckbert plane quadrics, cost and placement), stopped at the face count.
+// openmesh_*: OpenMesh's DecimaterT with ModQuadricT, alone to the face count or with
+//          ModNormalDeviationT as far as the angle allows (peers_openmesh.cpp).
 // Timing: wall clock in-process, from the flat arrays in memory to the simplified mesh (for CGAL
 // this includes building the Surface_mesh; the collapse alone is reported too). Loading and
 // writing are excluded. Prints one JSON line.
 #include "bench_mesh.h"
+#include "peers_openmesh.h"
 
 #include <meshoptimizer.h>
 
@@ -103,12 +108,15 @@ int runCgal(const bench::Flat &in, size_t target, const std::string &out)
 int main(int argc, char **argv)
 {
 	if (argc != 5) {
-		std::fprintf(stderr, "usage: bench_peers meshopt|cgal_gh IN TARGET_FACES OUT.ply\n");
+		std::fprintf(stderr, "usage: bench_peers meshopt|cgal_gh|openmesh_quadric IN TARGET_FACES OUT.ply\n"
+		                     "       bench_peers openmesh_nd IN ANGLE_DEG OUT.ply\n");
 		return 2;
 	}
 	const std::string method = argv[1], in = argv[2], out = argv[4];
-	const long target = std::atol(argv[3]);
-	if (target < 1) {
+	const bool byAngle = method == "openmesh_nd";
+	const double angle = std::atof(argv[3]);
+	const long target = byAngle ? 1 : std::atol(argv[3]);
+	if (target < 1 || (byAngle && !(angle > 0 && angle <= 360))) {
 		std::fprintf(stderr, "bench_peers: bad target %s\n", argv[3]);
 		return 2;
 	}
@@ -124,6 +132,10 @@ int main(int argc, char **argv)
 		return runMeshopt(flat, size_t(target), out);
 	if (method == "cgal_gh")
 		return runCgal(flat, size_t(target), out);
+	if (method == "openmesh_quadric")
+		return runOpenMesh(flat, false, double(target), out);
+	if (byAngle)
+		return runOpenMesh(flat, true, angle, out);
 	std::fprintf(stderr, "bench_peers: unknown method %s\n", method.c_str());
 	return 2;
 }

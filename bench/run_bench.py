@@ -45,8 +45,13 @@ MODELS = [
 ]
 QUICK = ["cube50", "fandisk", "anchor", "bumpy_100k"]
 
-PEERS = ["meshopt", "cgal_gh", "meshlab_quadric", "meshlab_quadric_planar", "blender_planar"]
+PEERS = ["meshopt", "cgal_gh", "meshlab_quadric", "meshlab_quadric_planar", "openmesh_quadric",
+         "blender_planar", "openmesh_nd"]
+# the four quadric methods of the issue's normal-deviation bar
 QUADRIC_PEERS = PEERS[:4]
+# run to a face count (GaussLOD's level's), and run at an angle (the face count is theirs)
+COUNT_PEERS = PEERS[:5]
+ANGLE_PEERS = ["blender_planar", "openmesh_nd"]
 # GaussLOD with a distance tolerance (% of the diagonal), run on the CAD models besides the
 # defaults; the quadric peers are run at its face counts too (rows with "variant": "dist")
 DIST_PCT = 0.1
@@ -57,8 +62,22 @@ LABEL = {
     "cgal_gh": "CGAL GH plane",
     "meshlab_quadric": "MeshLab quadric",
     "meshlab_quadric_planar": "MeshLab quadric+planar",
+    "openmesh_quadric": "OpenMesh quadric",
     "blender_planar": "Blender planar",
+    "openmesh_nd": "OpenMesh normal-deviation",
 }
+
+
+def sweep_angles(levels):
+    """Angles the angle-driven peers run at: every level's angle (sqrt(2)*90/3^L), the geometric
+    midpoint between neighbouring levels' angles, and a third of the finest level's angle, so that
+    their (faces, error) curve brackets the levels' face counts for interpolation."""
+    a = sorted({round(l["bound_deg"], 6) for l in levels})
+    out = set(a)
+    out.update(round(math.sqrt(x * y), 6) for x, y in zip(a, a[1:]))
+    if a:
+        out.add(round(a[0] / 3.0, 6))
+    return sorted(out)
 
 
 def log(msg):
@@ -197,11 +216,14 @@ class Bench:
             return None, fail_reason(r)
         return js[0], None
 
-    def add_row(self, model, method, level, target, res, orig, note=""):
-        """res: dict with file, seconds, peak_mb, faces (or error)."""
+    def add_row(self, model, method, level, target, res, orig, note="", sweep=False):
+        """res: dict with file, seconds, peak_mb, faces (or error). sweep: an angle-driven peer's
+        run at an angle of no level (level None)."""
         row = {"model": model, "method": method, "level": level, "target": target,
                "seconds": res.get("seconds"), "peak_mb": res.get("peak_mb"),
                "wall": res.get("wall"), "note": note, "error": res.get("error")}
+        if sweep:
+            row["sweep"] = True
         for k in ("angle_deg", "timing", "extra"):
             if k in res:
                 row[k] = res[k]
@@ -235,14 +257,20 @@ class Bench:
 
     # -- peers
     def peer_inproc(self, method, ply, target, out):
-        r = run([self.exe["bench_peers"], method, ply, str(target), out], self.args.timeout)
+        """target: a face count, or for openmesh_nd the angle in degrees."""
+        arg = ("%.6f" % target) if method == "openmesh_nd" else str(target)
+        r = run([self.exe["bench_peers"], method, ply, arg, out], self.args.timeout)
         js = json_lines(r["stdout"])
         if r["rc"] != 0 or not js:
             return {"error": fail_reason(r), "peak_mb": r["peak_mb"], "wall": r["wall"]}
         j = js[0]
-        extra = {k: j[k] for k in ("collapse_seconds", "skipped_input_faces", "result_error") if k in j}
-        return {"file": out, "faces": j["faces"], "seconds": j["seconds"], "peak_mb": r["peak_mb"],
-                "wall": r["wall"], "extra": extra}
+        extra = {k: j[k] for k in ("collapse_seconds", "skipped_input_faces", "result_error", "collapses",
+                                   "version") if k in j}
+        res = {"file": out, "faces": j["faces"], "seconds": j["seconds"], "peak_mb": r["peak_mb"],
+               "wall": r["wall"], "extra": extra}
+        if method == "openmesh_nd":
+            res["angle_deg"] = target
+        return res
 
     def mlx(self, filters):
         parts = ['<!DOCTYPE FilterScript>', '<FilterScript>']
@@ -389,12 +417,12 @@ class Bench:
         elif peers == "none":
             targets = []
         methods = [p for p in PEERS if p in self.args.methods]
-        base = None
         done = {}
         for l in targets:
             lv, F, angle = l["level"], l["faces"], l["bound_deg"]
             for meth in methods:
-                key = (meth, angle if meth == "blender_planar" else F)
+                by_angle = meth in ANGLE_PEERS
+                key = (meth, round(angle, 6) if by_angle else F)
                 if key in done:
                     prev = done[key]
                     row = dict(prev)
@@ -402,28 +430,38 @@ class Bench:
                     row["note"] = "same run as L%d" % prev["level"]
                     self.rows.append(row)
                     continue
-                log("model %s L%d: %s (%s)" % (name, lv, meth,
-                                               "%.4f deg" % angle if meth == "blender_planar" else "%d faces" % F))
-                out = os.path.join(self.work, "out", name, "%s_%d.ply" % (meth, F))
-                if meth in ("meshopt", "cgal_gh"):
-                    res = self.peer_inproc(meth, ply, F, out)
-                elif meth.startswith("meshlab"):
-                    if not self.have_meshlab:
-                        res = {"error": "meshlabserver or xvfb-run not installed"}
-                    else:
-                        if base is None:
-                            base = self.meshlab_baseline(name, ply)
-                            info["meshlab_baseline"] = base
-                        res = self.meshlab_quadric(name, ply, F, meth.endswith("planar"), base)
-                else:
-                    if not self.have_blender:
-                        res = {"error": "blender not installed"}
-                    else:
-                        res = self.blender(name, ply, angle)
-                target = None if meth == "blender_planar" else F
-                done[key] = self.add_row(name, meth, lv, target, res, ply)
+                log("model %s L%d: %s (%s)" % (name, lv, meth, "%.4f deg" % angle if by_angle else "%d faces" % F))
+                res = self.run_peer(meth, name, ply, info, angle if by_angle else F)
+                done[key] = self.add_row(name, meth, lv, None if by_angle else F, res, ply)
+        # The angle-driven peers at more angles than the levels' (a curve to interpolate at the
+        # levels' face counts); not on the big meshes whose peers run at the coarsest level only.
+        if peers == "all":
+            for angle in sweep_angles(levels):
+                for meth in [p for p in ANGLE_PEERS if p in methods]:
+                    if (meth, angle) in done:
+                        continue
+                    log("model %s sweep: %s (%.4f deg)" % (name, meth, angle))
+                    res = self.run_peer(meth, name, ply, info, angle)
+                    done[(meth, angle)] = self.add_row(name, meth, None, None, res, ply, "angle sweep",
+                                                       sweep=True)
         if "cad" in m["groups"] and peers == "all":
             self.distance_variant(name, ply, info, done, methods)
+
+    def run_peer(self, meth, name, ply, info, target):
+        """One peer run; target: face count, or the angle for the angle-driven peers."""
+        if meth in ("meshopt", "cgal_gh", "openmesh_quadric", "openmesh_nd"):
+            tag = ("%.4f" % target) if meth == "openmesh_nd" else "%d" % target
+            out = os.path.join(self.work, "out", name, "%s_%s.ply" % (meth, tag))
+            return self.peer_inproc(meth, ply, target, out)
+        if meth.startswith("meshlab"):
+            if not self.have_meshlab:
+                return {"error": "meshlabserver or xvfb-run not installed"}
+            if info.get("meshlab_baseline") is None:
+                info["meshlab_baseline"] = self.meshlab_baseline(name, ply)
+            return self.meshlab_quadric(name, ply, target, meth.endswith("planar"), info["meshlab_baseline"])
+        if not self.have_blender:
+            return {"error": "blender not installed"}
+        return self.blender(name, ply, target)
 
     def distance_variant(self, name, ply, info, done, methods):
         """GaussLOD with a distance tolerance, and the quadric peers at its face counts."""
@@ -434,26 +472,17 @@ class Bench:
             self.add_row(name, "gausslod_dist", None, None, {"error": err, "peak_mb": gr["peak_mb"]}, ply)
             return
         info["dist_seconds"] = sum(l["seconds"] for l in levels)
-        base = info.get("meshlab_baseline")
         for l in levels:
             lv, F = l["level"], l["faces"]
             self.add_row(name, "gausslod_dist", lv, None,
                          {"file": l["file"], "faces": F, "seconds": l["seconds"], "peak_mb": gr["peak_mb"]}, ply)
-            for meth in [q for q in QUADRIC_PEERS if q in methods]:
+            for meth in [q for q in COUNT_PEERS if q in methods]:
                 key = (meth, F)
                 if key in done:
                     row = dict(done[key])
                 else:
                     log("model %s distance L%d: %s (%d faces)" % (name, lv, meth, F))
-                    out = os.path.join(self.work, "out", name, "%s_%d.ply" % (meth, F))
-                    if meth in ("meshopt", "cgal_gh"):
-                        res = self.peer_inproc(meth, ply, F, out)
-                    elif not self.have_meshlab:
-                        res = {"error": "meshlabserver or xvfb-run not installed"}
-                    else:
-                        if base is None:
-                            base = info["meshlab_baseline"] = self.meshlab_baseline(name, ply)
-                        res = self.meshlab_quadric(name, ply, F, meth.endswith("planar"), base)
+                    res = self.run_peer(meth, name, ply, info, F)
                     row = done[key] = self.add_row(name, meth, lv, F, res, ply)
                     self.rows.pop()  # (re-added below as a variant row)
                 row = dict(row)
@@ -505,48 +534,264 @@ def machine_line():
 
 def versions():
     out = []
-    for pkg in ["libmeshoptimizer-dev", "libcgal-dev", "meshlab", "blender"]:
+    for pkg in ["libmeshoptimizer-dev", "libcgal-dev", "libopenmesh-dev", "meshlab", "blender"]:
         v = subprocess.run(["dpkg-query", "-W", "-f", "${Version}", pkg], capture_output=True,
                            text=True).stdout.strip()
         out.append("%s %s" % (pkg, v or "(not installed)"))
     return ", ".join(out)
 
 
+# The three errors of the per-peer comparison: row key, label, what counts as zero (double
+# rounding for distances), tolerance of "not worse", interpolation in log scale.
+ZERO_PCT = 1e-9      # % of the diagonal
+NORMAL_TOL = 0.005   # degrees
+ERRORS = [("hausdorff_pct", "Hausdorff", ZERO_PCT, 0.0, True),
+          ("mean_pct", "mean dist", ZERO_PCT, 0.0, True),
+          ("normal_p95_deg", "p95 normal dev", NORMAL_TOL, NORMAL_TOL, False)]
+
+
+def usable(r):
+    return (not r.get("error") and r.get("faces") and all(r.get(k) is not None for k, *_ in ERRORS))
+
+
+def curve(rows, model, meth):
+    """An angle-driven peer's runs on a model as (faces, row), sorted by faces; of several runs
+    with the same face count the one with the lowest Hausdorff distance (the peer's best)."""
+    best = {}
+    for r in rows:
+        if r["model"] == model and r["method"] == meth and usable(r):
+            if r["faces"] not in best or r["hausdorff_pct"] < best[r["faces"]]["hausdorff_pct"]:
+                best[r["faces"]] = r
+    return sorted(best.items())
+
+
+def interpolate(points, faces):
+    """The peer's errors at `faces` from its (faces, row) curve: the run itself when a run has
+    that count, otherwise between the two runs around it, linear in log(faces) (distances in
+    log scale when both are above zero). None when the curve does not reach that count."""
+    for i, (f, r) in enumerate(points):
+        if f == faces:
+            return {k: r[k] for k, *_ in ERRORS}
+        if f > faces:
+            if i == 0:
+                return None
+            f0, r0 = points[i - 1]
+            t = (math.log(faces) - math.log(f0)) / (math.log(f) - math.log(f0))
+            out = {}
+            for k, _, zero, _, logy in ERRORS:
+                a, b = r0[k], r[k]
+                if logy and a > zero and b > zero:
+                    out[k] = math.exp(math.log(a) + t * (math.log(b) - math.log(a)))
+                else:
+                    out[k] = a + t * (b - a)
+            return out
+    return None
+
+
+def judge(a, b, zero, tol):
+    """(not worse, ratio a/b) for our error a against the peer's b; both at zero: equal."""
+    if a <= zero and b <= zero:
+        return True, 1.0
+    return a <= b + tol, (float("inf") if b <= zero else max(a, zero) / b)
+
+
+def median(xs):
+    xs = sorted(xs)
+    if not xs:
+        return float("nan")
+    n = len(xs)
+    return xs[n // 2] if n % 2 else (xs[n // 2 - 1] + xs[n // 2]) / 2.0
+
+
+def our_levels(rows, models, method, cad_only=False):
+    """Our level meshes; a level that reused the finer level's mesh counted once."""
+    seen = set()
+    for g in rows:
+        if g["method"] != method or g["level"] is None or not usable(g):
+            continue
+        if cad_only and "cad" not in models.get(g["model"], {}).get("groups", []):
+            continue
+        key = (g["model"], g["faces"], g["hausdorff_pct"])
+        if key not in seen:
+            seen.add(key)
+            yield g
+
+
+def peer_comparisons(rows, models, meth, method="gausslod", variant=None):
+    """Every comparison of our levels with one peer at equal face count. Returns (comparisons,
+    skipped): comparisons are dicts (model, level, faces, peer_faces, ours, peer); skipped lists
+    levels the peer ran on but that could not be compared, with the reason."""
+    comps, skipped = [], []
+    curves = {}
+    for g in our_levels(rows, models, method):
+        if meth in ANGLE_PEERS:
+            if g["model"] not in curves:
+                curves[g["model"]] = curve(rows, g["model"], meth)
+            pts = curves[g["model"]]
+            if not pts:
+                continue  # the peer did not run on this model
+            # bumpy_1m-like models: the peer ran at one angle only, no curve to read
+            if len(pts) < 2 and pts[0][0] != g["faces"]:
+                skipped.append("%s L%d: one run only (%d faces)" % (g["model"], g["level"], pts[0][0]))
+                continue
+            vals = interpolate(pts, g["faces"])
+            if vals is None:
+                skipped.append("%s L%d: %d faces outside the sweep's %d-%d" % (
+                    g["model"], g["level"], g["faces"], pts[0][0], pts[-1][0]))
+                continue
+            comps.append({"model": g["model"], "level": g["level"], "faces": g["faces"],
+                          "peer_faces": g["faces"], "ours": g, "peer": vals})
+        else:
+            p = next((r for r in rows if r["model"] == g["model"] and r["method"] == meth
+                      and r["level"] == g["level"] and r.get("variant") == variant), None)
+            if p is None:
+                continue  # not run on this model (e.g. the scaling mesh)
+            if not usable(p):
+                skipped.append("%s L%d: %s" % (g["model"], g["level"], p.get("error") or "no metrics"))
+                continue
+            comps.append({"model": g["model"], "level": g["level"], "faces": g["faces"],
+                          "peer_faces": p["faces"], "ours": g, "peer": p})
+    return comps, skipped
+
+
+def pareto_section(bench):
+    """Per peer: our levels against it at equal face count (issue 17's "Done when" table)."""
+    rows, models = bench.rows, bench.models
+    L = ["## Our levels against each peer at equal face count", ""]
+    L.append("Every GaussLOD level (default parameters; a level that reused the finer level's mesh counted "
+             "once) against each peer at that level's face count. Count-driven peers ran to that count; the "
+             "angle-driven ones (Blender planar, OpenMesh normal-deviation) ran at a sweep of angles (the "
+             "levels' angles, the geometric midpoints between them and a third of the finest) and their "
+             "errors are interpolated at our face count between the two runs around it (linear in log faces, "
+             "distances in log scale); a level outside the sweep's face range is not compared. "
+             "\"not worse\": ours <= peer's (distances: both below %g %% count as equal; normals: %g° "
+             "tolerance). Ratio: ours / peer's. Bar: not worse in >= 80 %% of the levels and median ratio "
+             "<= 1.0, per error." % (ZERO_PCT, NORMAL_TOL))
+    L.append("")
+    for method, variant, title in (("gausslod", None, None),
+                                   ("gausslod_dist", "dist", "With the distance tolerance (`--max-distance %g "
+                                    "--distance-growth 1`, CAD models; count-driven peers rerun at its face "
+                                    "counts)" % DIST_PCT)):
+        tab = []
+        per_model = {}
+        details = []
+        for meth in PEERS:
+            comps, skipped = peer_comparisons(rows, models, meth, method, variant)
+            if not comps and not skipped:
+                continue
+            n = len(comps)
+            cells, verdicts = [], []
+            for k, label, zero, tol, _ in ERRORS:
+                js = [judge(c["ours"][k], c["peer"][k], zero, tol) for c in comps]
+                good = sum(1 for ok_, _ in js if ok_)
+                med = median([r for _, r in js])
+                cells.append("%d / %d, %s" % (good, n, "inf" if med == float("inf") else "%.2f" % med))
+                met = n > 0 and good >= 0.8 * n and med <= 1.0
+                verdicts.append("%s %s" % (label.split()[0] if k != "normal_p95_deg" else "p95",
+                                           "met" if met else "MISSED"))
+            fr = [c["peer_faces"] / float(c["faces"]) for c in comps]
+            faces_cell = "interpolated" if meth in ANGLE_PEERS else (
+                "%.3f (%.3f-%.3f)" % (median(fr), min(fr), max(fr)) if fr else "–")
+            tab.append("| %s | %d%s | %s | %s | %s | %s | %s |" % (
+                LABEL[meth], n, " (+%d not compared)" % len(skipped) if skipped else "", cells[0], cells[1],
+                cells[2], faces_cell, ", ".join(verdicts)))
+            for c in comps:
+                pm = per_model.setdefault(c["model"], {}).setdefault(meth, [0, 0, []])
+                ok_, r = judge(c["ours"]["hausdorff_pct"], c["peer"]["hausdorff_pct"], ZERO_PCT, 0.0)
+                pm[0] += int(ok_)
+                pm[1] += 1
+                pm[2].append(r)
+            lines = ["%s L%d, %d faces%s: Hausdorff %.3g vs %.3g %%, mean %.3g vs %.3g %%, p95 %.2f vs %.2f°" % (
+                c["model"], c["level"], c["faces"],
+                "" if c["peer_faces"] == c["faces"] else " (peer %d)" % c["peer_faces"],
+                c["ours"]["hausdorff_pct"], c["peer"]["hausdorff_pct"], c["ours"]["mean_pct"],
+                c["peer"]["mean_pct"], c["ours"]["normal_p95_deg"], c["peer"]["normal_p95_deg"]) for c in comps]
+            lines += ["not compared: " + x for x in skipped]
+            details.append(("%s: every comparison (ours vs peer)" % LABEL[meth], lines))
+        if not tab:
+            continue
+        if title:
+            L.append("### " + title)
+            L.append("")
+        L.append("| peer | levels compared | Hausdorff: not worse, median ratio | mean dist: not worse, median ratio "
+                 "| p95 normal dev: not worse, median ratio | peer faces / ours (median, range) "
+                 "| bar met (>= 80 % and median <= 1.0) |")
+        L.append("|---|---|---|---|---|---|---|")
+        L.extend(tab)
+        L.append("")
+        peers_here = [p for p in PEERS if any(p in v for v in per_model.values())]
+        L.append("Hausdorff per model (not worse / compared, median ratio):")
+        L.append("")
+        L.append("| model | " + " | ".join(LABEL[p] for p in peers_here) + " |")
+        L.append("|---|" + "---|" * len(peers_here))
+        for model, v in per_model.items():
+            L.append("| %s | %s |" % (model, " | ".join(
+                ("%d / %d, %s" % (v[p][0], v[p][1], "inf" if median(v[p][2]) == float("inf")
+                                  else "%.2f" % median(v[p][2]))) if p in v else "–" for p in peers_here)))
+        for summary, lines in details:
+            L.extend(["", "<details><summary>%s</summary>" % summary, ""])
+            L.extend("- " + x for x in lines)
+            L.append("</details>")
+        L.append("")
+    return L
+
+
+PLOT_STYLE = {"gausslod": "lw 2 pt 7 lc rgb '#d62728'", "gausslod_dist": "lw 2 dt 2 pt 6 lc rgb '#e377c2'",
+              "meshopt": "pt 5 lc rgb '#1f77b4'", "cgal_gh": "pt 9 lc rgb '#2ca02c'",
+              "meshlab_quadric": "pt 11 lc rgb '#9467bd'", "meshlab_quadric_planar": "pt 13 lc rgb '#8c564b'",
+              "openmesh_quadric": "pt 15 lc rgb '#17becf'", "blender_planar": "pt 3 lc rgb '#ff7f0e'",
+              "openmesh_nd": "dt 3 pt 2 lc rgb '#7f7f7f'"}
+
+
 def plot(bench, resdir, name, rows):
-    """Hausdorff vs faces, one line per method (gnuplot, PNG)."""
+    """Hausdorff, mean distance and p95 normal deviation vs faces (three panels), one line per
+    method: every run, sweeps included; GaussLOD's points labelled with their level."""
     if not shutil.which("gnuplot"):
         return None
     d = os.path.join(bench.work, "plot")
     os.makedirs(d, exist_ok=True)
     series = []
-    allpos = True
     for meth in ["gausslod", "gausslod_dist"] + PEERS:
-        pts = sorted({(r["faces"], r["hausdorff_pct"]) for r in rows
-                      if r["method"] == meth and not r.get("error") and r.get("hausdorff_pct") is not None})
+        pts = sorted({(r["faces"], r["hausdorff_pct"], r["mean_pct"], r["normal_p95_deg"])
+                      for r in rows if r["method"] == meth and usable(r)})
         if not pts:
             continue
-        allpos = allpos and all(h > 0 for _, h in pts)
         fn = os.path.join(d, "%s_%s.dat" % (name, meth))
         with open(fn, "w") as f:
-            for fc, h in pts:
-                f.write("%d %.9g\n" % (fc, h))
-        series.append((fn, LABEL[meth], meth))
+            for p in pts:
+                f.write("%d %.9g %.9g %.9g\n" % p)
+        series.append((fn, LABEL[meth], meth, pts))
     if not series:
         return None
-    png = os.path.join(resdir, "hausdorff_%s.png" % name)
-    gp = ["set terminal pngcairo size 760,480 font 'Sans,10'",
-          "set output '%s'" % png,
-          "set title 'Hausdorff distance vs face count: %s'" % name,
-          "set xlabel 'faces (log)'", "set ylabel 'Hausdorff, %% of bbox diagonal%s'" % (" (log)" if allpos else ""),
-          "set termoption noenhanced", "set logscale x", "set grid", "set key outside right top", "set format x '%.0s%c'", "set format y '%g'"]
-    if allpos:
-        gp.append("set logscale y")
-    styles = {"gausslod": "lw 2 pt 7 lc rgb '#d62728'", "gausslod_dist": "lw 2 dt 2 pt 6 lc rgb '#e377c2'",
-              "meshopt": "pt 5 lc rgb '#1f77b4'", "cgal_gh": "pt 9 lc rgb '#2ca02c'",
-              "meshlab_quadric": "pt 11 lc rgb '#9467bd'", "meshlab_quadric_planar": "pt 13 lc rgb '#8c564b'",
-              "blender_planar": "pt 3 lc rgb '#ff7f0e'"}
-    gp.append("plot " + ", ".join("'%s' using 1:2 with linespoints %s title '%s'" % (fn, styles[m], t)
-                                  for fn, t, m in series))
+    png = os.path.join(resdir, "error_%s.png" % name)
+    gp = ["set terminal pngcairo size 900,1100 font 'Sans,10'", "set output '%s'" % png,
+          "set termoption noenhanced", "set multiplot layout 3,1 title 'Error vs face count: %s'" % name,
+          "set logscale x", "set grid", "set key outside right top", "set format x '%.0s%c'",
+          "set lmargin at screen 0.09", "set rmargin at screen 0.66",
+          "set format y '%g'", "set xlabel 'faces (log)'"]
+    levels = sorted({(r["faces"], r["level"]) for r in rows if r["method"] == "gausslod" and usable(r)})
+    for col, (k, label, _, _, logy) in enumerate(ERRORS):
+        vals = [p[col + 1] for _, _, _, pts in series for p in pts]
+        logy = logy and all(v > 0 for v in vals)
+        gp.append("%s logscale y" % ("set" if logy else "unset"))
+        clip = ""
+        if k == "normal_p95_deg":
+            # linear (zeros are common); a peer's folded faces (180°) would flatten our curve
+            ours = [p[col + 1] for _, _, m, pts in series if m.startswith("gausslod") for p in pts]
+            top = max([10.0] + [2.5 * v for v in ours])
+            gp.append("set yrange [0:%g]" % top)
+            clip = ", clipped at %.0f" % top if max(vals) > top else ""
+        gp.append("set ylabel '%s%s%s%s'" % (label, " °" if k == "normal_p95_deg" else ", % of diagonal",
+                                              " (log)" if logy else "", clip))
+        gp.append("unset label")
+        for f, lv in levels:
+            v = next(r[k] for r in rows if r["method"] == "gausslod" and r["faces"] == f and usable(r))
+            if not logy or v > 0:
+                gp.append("set label 'L%d' at %d,%.9g offset 0.6,0.6 font ',8' tc rgb '#d62728'" % (lv, f, v))
+        gp.append("plot " + ", ".join("'%s' using 1:%d with linespoints %s title '%s'" % (
+            fn, col + 2, PLOT_STYLE[m], t) for fn, t, m, _ in series))
+        gp.append("unset key")  # one legend, on the first panel
+    gp.append("unset multiplot")
     script = os.path.join(d, name + ".gp")
     with open(script, "w") as f:
         f.write("\n".join(gp) + "\n")
@@ -832,6 +1077,9 @@ def bars(bench):
 
 def report(bench, resdir, cmdline):
     os.makedirs(resdir, exist_ok=True)
+    for f in os.listdir(resdir):  # the plots' earlier name (Hausdorff only): stale
+        if f.startswith("hausdorff_") and f.endswith(".png"):
+            os.unlink(os.path.join(resdir, f))
     rows = bench.rows
     with open(os.path.join(resdir, "raw.jsonl"), "w") as f:
         for r in rows:
@@ -849,6 +1097,7 @@ def report(bench, resdir, cmdline):
     L.append("## Bars of the issue")
     L.append("")
     L += bars(bench)
+    L += pareto_section(bench)
     L.append("## Results per model")
     L.append("")
     for name, m in bench.models.items():
@@ -869,7 +1118,8 @@ def report(bench, resdir, cmdline):
         L.append("| method | level | target | faces | Hausdorff % | mean dist % | normal p95 ° | normal max ° | slivers % | non-manifold edges | flipped | seconds | peak MB | note |")
         L.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
         order = {k: i for i, k in enumerate(["gausslod", "gausslod_dist"] + PEERS)}
-        for r in sorted(mrows, key=lambda r: (-(r["level"] if r["level"] is not None else -1), order.get(r["method"], 9))):
+        for r in sorted(mrows, key=lambda r: (-(r["level"] if r["level"] is not None else -1), order.get(r["method"], 9),
+                                              -(r.get("angle_deg") or 0))):
             target = r["target"] if r["target"] is not None else (
                 "%.2f°" % r["angle_deg"] if r.get("angle_deg") is not None else "–")
             note = r.get("note") or ""
@@ -879,9 +1129,10 @@ def report(bench, resdir, cmdline):
             if r["method"] == "gausslod" and ex.get("fallbacks"):
                 note = (note + "; " if note else "") + "%d fallbacks" % ex["fallbacks"]
             if ex.get("skipped_input_faces"):
-                note = (note + "; " if note else "") + "CGAL skipped %d non-manifold input faces" % ex["skipped_input_faces"]
-            L.append("| %s | L%s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
-                LABEL[r["method"]], r["level"], target, fmt(r.get("faces"), "%d"),
+                note = (note + "; " if note else "") + "%s skipped %d non-manifold input faces" % (
+                    "OpenMesh" if r["method"].startswith("openmesh") else "CGAL", ex["skipped_input_faces"])
+            L.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
+                LABEL[r["method"]], "L%d" % r["level"] if r["level"] is not None else "–", target, fmt(r.get("faces"), "%d"),
                 fmt(r.get("hausdorff_pct"), "%.4g"), fmt(r.get("mean_pct"), "%.3g"),
                 fmt(r.get("normal_p95_deg"), "%.2f"), fmt(r.get("normal_max_deg"), "%.1f"),
                 fmt(r.get("sliver_pct"), "%.1f"), fmt(r.get("nonmanifold_edges"), "%d"),
@@ -889,7 +1140,7 @@ def report(bench, resdir, cmdline):
         L.append("")
         png = plot(bench, resdir, name, mrows)
         if png:
-            L.append("![Hausdorff vs faces, %s](%s)" % (name, png))
+            L.append("![Hausdorff, mean distance and p95 normal deviation vs faces, %s](%s)" % (name, png))
             L.append("")
     with open(os.path.join(resdir, "RESULTS.md"), "w") as f:
         f.write("\n".join(L) + "\n")

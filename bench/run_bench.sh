@@ -13,7 +13,7 @@ jobs="${BENCH_JOBS:-2}"
 
 # the peers and tools from Debian, installed when missing (as root; apt-get update first)
 bash "$root/cmake/setup.sh"
-want=(libmeshoptimizer-dev time gnuplot-nox blender)
+want=(libmeshoptimizer-dev libopenmesh-dev time gnuplot-nox blender)
 need=()
 for p in "${want[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || need+=("$p")
@@ -26,8 +26,9 @@ for tool in cmake g++ python3 /usr/bin/time gnuplot; do
   command -v "$tool" >/dev/null 2>&1 || missing+=("$tool")
 done
 [ -f /usr/include/meshoptimizer.h ] || missing+=("libmeshoptimizer-dev")
+[ -f /usr/include/OpenMesh/Tools/Decimater/DecimaterT.hh ] || missing+=("libopenmesh-dev")
 if [ ${#missing[@]} -gt 0 ]; then
-  echo "run_bench.sh: missing ${missing[*]} (Debian: apt-get install libmeshoptimizer-dev time gnuplot-nox;" \
+  echo "run_bench.sh: missing ${missing[*]} (Debian: apt-get install libmeshoptimizer-dev libopenmesh-dev time gnuplot-nox;" \
        "optional peers: meshlab xvfb xauth blender)" >&2
   exit 1
 fi
