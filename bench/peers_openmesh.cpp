@@ -43,7 +43,8 @@ size_t build(const bench::Flat &in, OMesh &om)
 		vh[i] = om.add_vertex(OMesh::Point(in.pos[3 * i], in.pos[3 * i + 1], in.pos[3 * i + 2]));
 	size_t skipped = 0;
 	for (size_t f = 0; f < in.fn(); ++f) {
-		const OMesh::FaceHandle fh = om.add_face(vh[in.tri[3 * f]], vh[in.tri[3 * f + 1]], vh[in.tri[3 * f + 2]]);
+		const OMesh::FaceHandle fh =
+		    om.add_face(vh[in.tri[3 * f]], vh[in.tri[3 * f + 1]], vh[in.tri[3 * f + 2]]);
 		if (!fh.is_valid())
 			++skipped;
 	}
@@ -100,12 +101,13 @@ int runOpenMesh(const bench::Flat &in, bool normalDeviation, double value, const
 		std::fprintf(stderr, "bench_peers: cannot write %s\n", out.c_str());
 		return 1;
 	}
-	std::printf("{\"method\":\"%s\",\"version\":\"%d.%d\",%s\"faces\":%zu,\"seconds\":%.6f,"
-	            "\"collapse_seconds\":%.6f,\"collapses\":%zu,\"skipped_input_faces\":%zu,\"file\":%s}\n",
-	            normalDeviation ? "openmesh_nd" : "openmesh_quadric", OM_GET_VER, OM_GET_MAJ,
-	            (normalDeviation ? "\"angle_deg\":" + std::to_string(value) + ","
-	                             : "\"target\":" + std::to_string(target) + ",")
-	                .c_str(),
-	            faces, t2 - t0, t2 - t1, collapses, skipped, bench::jsonStr(out).c_str());
+	std::printf(
+	    "{\"method\":\"%s\",\"version\":\"%d.%d\",%s\"faces\":%zu,\"seconds\":%.6f,"
+	    "\"collapse_seconds\":%.6f,\"collapses\":%zu,\"skipped_input_faces\":%zu,\"file\":%s}\n",
+	    normalDeviation ? "openmesh_nd" : "openmesh_quadric", OM_GET_VER, OM_GET_MAJ,
+	    (normalDeviation ? "\"angle_deg\":" + std::to_string(value) + ","
+	                     : "\"target\":" + std::to_string(target) + ",")
+	        .c_str(),
+	    faces, t2 - t0, t2 - t1, collapses, skipped, bench::jsonStr(out).c_str());
 	return 0;
 }
