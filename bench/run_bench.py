@@ -603,13 +603,11 @@ def median(xs):
     return xs[n // 2] if n % 2 else (xs[n // 2 - 1] + xs[n // 2]) / 2.0
 
 
-def our_levels(rows, models, method, cad_only=False):
+def our_levels(rows, method):
     """Our level meshes; a level that reused the finer level's mesh counted once."""
     seen = set()
     for g in rows:
         if g["method"] != method or g["level"] is None or not usable(g):
-            continue
-        if cad_only and "cad" not in models.get(g["model"], {}).get("groups", []):
             continue
         key = (g["model"], g["faces"], g["hausdorff_pct"])
         if key not in seen:
@@ -617,13 +615,13 @@ def our_levels(rows, models, method, cad_only=False):
             yield g
 
 
-def peer_comparisons(rows, models, meth, method="gausslod", variant=None):
+def peer_comparisons(rows, meth, method="gausslod", variant=None):
     """Every comparison of our levels with one peer at equal face count. Returns (comparisons,
     skipped): comparisons are dicts (model, level, faces, peer_faces, ours, peer); skipped lists
     levels the peer ran on but that could not be compared, with the reason."""
     comps, skipped = [], []
     curves = {}
-    for g in our_levels(rows, models, method):
+    for g in our_levels(rows, method):
         if meth in ANGLE_PEERS:
             if g["model"] not in curves:
                 curves[g["model"]] = curve(rows, g["model"], meth)
@@ -656,7 +654,7 @@ def peer_comparisons(rows, models, meth, method="gausslod", variant=None):
 
 def pareto_section(bench):
     """Per peer: our levels against it at equal face count (issue 17's "Done when" table)."""
-    rows, models = bench.rows, bench.models
+    rows = bench.rows
     L = ["## Our levels against each peer at equal face count", ""]
     L.append("Every GaussLOD level (default parameters; a level that reused the finer level's mesh counted "
              "once) against each peer at that level's face count. Count-driven peers ran to that count; the "
@@ -676,7 +674,7 @@ def pareto_section(bench):
         per_model = {}
         details = []
         for meth in PEERS:
-            comps, skipped = peer_comparisons(rows, models, meth, method, variant)
+            comps, skipped = peer_comparisons(rows, meth, method, variant)
             if not comps and not skipped:
                 continue
             n = len(comps)
