@@ -10,29 +10,37 @@
 namespace gausslod {
 namespace detail {
 
+double faceCross(const double *P, const int32_t *T, size_t f, Vec3 &cross)
+{
+	auto pos = [&](int32_t v) {
+		return Vec3(P[3 * size_t(v)], P[3 * size_t(v) + 1], P[3 * size_t(v) + 2]);
+	};
+	const int32_t a = T[3 * f], b = T[3 * f + 1], c = T[3 * f + 2];
+	cross = (pos(b) - pos(a)) ^ (pos(c) - pos(a));
+	return cross.Norm();
+}
+
 namespace {
 
+// Which faces are valid; their normals and areas are computed from the positions when asked
+// (FaceMeasure).
 void computeFaces(Topology &t, size_t threads)
 {
-	t.faceNormal.assign(t.nF, Vec3(0, 0, 0));
-	t.faceArea.assign(t.nF, 0.0);
 	t.faceValid.assign(t.nF, 0);
 	// Faces smaller than this (relative to the model size) have no reliable normal.
 	const double minCross = 1e-20 * t.diagonal * t.diagonal;
 	parallelRanges(t.nF, threads, [&](size_t begin, size_t end, size_t) {
 		for (size_t f = begin; f < end; ++f) {
-			const int32_t a = t.T[3 * f], b = t.T[3 * f + 1], c = t.T[3 * f + 2];
 			if (t.faceDropped[f])
 				continue;
-			const Vec3 n = (t.pos(b) - t.pos(a)) ^ (t.pos(c) - t.pos(a));
-			const double len = n.Norm();
-			if (!std::isfinite(len) || len <= minCross)
-				continue;
-			t.faceNormal[f] = n / len;
-			t.faceArea[f] = 0.5 * len;
-			t.faceValid[f] = 1;
+			Vec3 n;
+			const double len = faceCross(t.P, t.T, f, n);
+			t.faceValid[f] = std::isfinite(len) && len > minCross;
 		}
 	});
+	const FaceMeasure measure{t.P, t.T, t.faceValid.data()};
+	static_cast<FaceMeasure &>(t.faceNormal) = measure;
+	static_cast<FaceMeasure &>(t.faceArea) = measure;
 }
 
 // Vertex -> faces (CSR) over the faces that are not dropped.
