@@ -277,6 +277,17 @@ struct FaceMeasure {
 		Vec3 n;
 		return valid[f] ? 0.5 * faceCross(P, T, f, n) : 0.0;
 	}
+	/// normal(f) and area(f) at the cost of one.
+	void normalAndArea(size_t f, Vec3 &normal, double &area) const
+	{
+		if (!valid[f]) {
+			normal = Vec3(0, 0, 0), area = 0;
+			return;
+		}
+		const double len = faceCross(P, T, f, normal);
+		normal /= len;
+		area = 0.5 * len;
+	}
 };
 struct FaceNormals : FaceMeasure {
 	Vec3 operator[](size_t f) const { return normal(f); }

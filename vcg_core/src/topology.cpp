@@ -197,11 +197,14 @@ void classifyVertices(Topology &t, double thresholdDeg, size_t threads)
 {
 	t.vertexClass.assign(t.nV, kFlat);
 	parallelRanges(t.nV, threads, [&](size_t vBegin, size_t vEnd, size_t) {
+		std::vector<Vec3> normal; // of the vertex's faces (each computed once: see FaceMeasure)
 		for (size_t v = vBegin; v < vEnd; ++v) {
 			const int32_t begin = t.vfStart[v], end = t.vfStart[v + 1];
+			normal.resize(size_t(end - begin));
 			Vec3 mean(0, 0, 0);
 			for (int32_t i = begin; i < end; ++i)
-				mean += t.faceNormal[size_t(t.vfFace[size_t(i)])];
+				mean += normal[size_t(i - begin)] = t.faceNormal[size_t(t.vfFace[size_t(i)])];
+			// the position of the face farthest from dir (among `group`), -1 if none
 			auto farthestFrom = [&](const Vec3 &dir, int group, const Vec3 *b1, const Vec3 *b2) {
 				int32_t best = -1;
 				double bestDot = HUGE_VAL;
@@ -209,13 +212,13 @@ void classifyVertices(Topology &t, double thresholdDeg, size_t threads)
 					const int32_t f = t.vfFace[size_t(i)];
 					if (!t.faceValid[size_t(f)])
 						continue;
-					const Vec3 &n = t.faceNormal[size_t(f)];
+					const Vec3 &n = normal[size_t(i - begin)];
 					if (group >= 0 && (n.dot(*b1) >= n.dot(*b2) ? 0 : 1) != group)
 						continue;
 					const double d = n.dot(dir);
 					if (d < bestDot) {
 						bestDot = d;
-						best = f;
+						best = i - begin;
 					}
 				}
 				return best;
@@ -223,8 +226,8 @@ void classifyVertices(Topology &t, double thresholdDeg, size_t threads)
 			const int32_t f1 = farthestFrom(mean, -1, nullptr, nullptr);
 			if (f1 < 0)
 				continue;
-			const Vec3 b1 = t.faceNormal[size_t(f1)];
-			const Vec3 b2 = t.faceNormal[size_t(farthestFrom(b1, -1, nullptr, nullptr))];
+			const Vec3 b1 = normal[size_t(f1)];
+			const Vec3 b2 = normal[size_t(farthestFrom(b1, -1, nullptr, nullptr))];
 			const double a1 = angleDeg(b1, b2);
 			if (a1 < thresholdDeg)
 				continue;
@@ -234,9 +237,9 @@ void classifyVertices(Topology &t, double thresholdDeg, size_t threads)
 				const int32_t g1 = farthestFrom(base, group, &b1, &b2);
 				if (g1 < 0)
 					continue;
-				const Vec3 e1 = t.faceNormal[size_t(g1)];
+				const Vec3 e1 = normal[size_t(g1)];
 				const int32_t g2 = farthestFrom(e1, group, &b1, &b2);
-				a2 = std::max(a2, angleDeg(e1, t.faceNormal[size_t(g2)]));
+				a2 = std::max(a2, angleDeg(e1, normal[size_t(g2)]));
 			}
 			t.vertexClass[v] = a2 > thresholdDeg ? kCorner : kEdge;
 		}
@@ -342,10 +345,14 @@ void buildFaceGrid(Topology &t)
 	// the rounded axis), and s / 254 >= sin of the widest angle from it, rounded up with a
 	// margin of one step (far above the rounding of the dot products that use it)
 	g.cone.resize(buckets);
+	std::vector<Vec3> normal; // of a bucket's faces (each computed once: see FaceMeasure)
 	for (size_t c = 0; c < buckets; ++c) {
 		Vec3 sum(0, 0, 0);
-		for (int32_t i = g.start[c]; i < g.start[c + 1]; ++i)
-			sum += t.faceNormal[size_t(g.face[size_t(i)])];
+		normal.clear();
+		for (int32_t i = g.start[c]; i < g.start[c + 1]; ++i) {
+			normal.push_back(t.faceNormal[size_t(g.face[size_t(i)])]);
+			sum += normal.back();
+		}
 		const double len = sum.Norm();
 		if (!(len > 0)) {
 			g.cone[c] = FaceGrid::packCone(0, 0, 0, 255);
@@ -356,8 +363,8 @@ void buildFaceGrid(Topology &t)
 			q[k] = int(std::lround(127.0 * sum[k] / len));
 		const Vec3 axis = Vec3(q[0], q[1], q[2]).Normalize();
 		double minCos = 1;
-		for (int32_t i = g.start[c]; i < g.start[c + 1]; ++i)
-			minCos = std::min(minCos, t.faceNormal[size_t(g.face[size_t(i)])].dot(axis));
+		for (const Vec3 &n : normal)
+			minCos = std::min(minCos, n.dot(axis));
 		int s = 255;
 		if (minCos > 0) {
 			const double sine = std::sqrt(std::max(0.0, 1.0 - minCos * minCos));
