@@ -298,6 +298,11 @@ struct FaceAreas : FaceMeasure {
 
 /// Everything derived once from the input mesh.
 struct Topology {
+	Topology() = default;
+	// (faceNormal and faceArea point into faceValid: a copy would read the original's)
+	Topology(const Topology &) = delete;
+	Topology &operator=(const Topology &) = delete;
+
 	size_t nV = 0, nF = 0;
 	const double *P = nullptr;  ///< xyz per vertex (the caller's array)
 	const int32_t *T = nullptr; ///< 3 per face (the caller's array)
