@@ -252,8 +252,57 @@ void parallelRanges(size_t n, size_t threads, Fn fn)
 
 enum VertexClass : uint8_t { kFlat = 0, kEdge = 1, kCorner = 2 }; // = importance (2.3.2)
 
+/// The cross product of face f's edges from its first corner (twice its area along its normal),
+/// and its length. Out of line: every use gets the same bits from the same instructions (a
+/// stored normal and one computed again must agree).
+double faceCross(const double *P, const int32_t *T, size_t f, Vec3 &cross);
+
+/// Unit normal or area of a face (Topology::faceNormal, faceArea), computed when asked from the
+/// positions: stored, they took 32 bytes per face, a sixth of the peak memory. Zero for a face
+/// that is not valid.
+struct FaceMeasure {
+	const double *P = nullptr;
+	const int32_t *T = nullptr;
+	const uint8_t *valid = nullptr; ///< Topology::faceValid
+	Vec3 normal(size_t f) const
+	{
+		Vec3 n;
+		if (!valid[f])
+			return Vec3(0, 0, 0);
+		const double len = faceCross(P, T, f, n);
+		return n / len;
+	}
+	double area(size_t f) const
+	{
+		Vec3 n;
+		return valid[f] ? 0.5 * faceCross(P, T, f, n) : 0.0;
+	}
+	/// normal(f) and area(f) at the cost of one.
+	void normalAndArea(size_t f, Vec3 &normal, double &area) const
+	{
+		if (!valid[f]) {
+			normal = Vec3(0, 0, 0), area = 0;
+			return;
+		}
+		const double len = faceCross(P, T, f, normal);
+		normal /= len;
+		area = 0.5 * len;
+	}
+};
+struct FaceNormals : FaceMeasure {
+	Vec3 operator[](size_t f) const { return normal(f); }
+};
+struct FaceAreas : FaceMeasure {
+	double operator[](size_t f) const { return area(f); }
+};
+
 /// Everything derived once from the input mesh.
 struct Topology {
+	Topology() = default;
+	// (faceNormal and faceArea point into faceValid: a copy would read the original's)
+	Topology(const Topology &) = delete;
+	Topology &operator=(const Topology &) = delete;
+
 	size_t nV = 0, nF = 0;
 	const double *P = nullptr;  ///< xyz per vertex (the caller's array)
 	const int32_t *T = nullptr; ///< 3 per face (the caller's array)
@@ -262,8 +311,8 @@ struct Topology {
 	bool wantSources = false;          ///< MeshView::wantSources
 	const uint8_t *keepFace = nullptr; ///< MeshView::keepFace, optional
 
-	std::vector<Vec3> faceNormal;   ///< unit normal (zero for invalid faces)
-	std::vector<double> faceArea;   ///< area
+	FaceNormals faceNormal;         ///< unit normal (zero for invalid faces), by face
+	FaceAreas faceArea;             ///< area (zero for invalid faces), by face
 	std::vector<uint8_t> faceValid; ///< distinct vertices, finite, non-zero area
 	/// Faces that are no triangles (a repeated vertex index) or repeat an earlier face's vertex
 	/// set: left out of the adjacency and of every level.

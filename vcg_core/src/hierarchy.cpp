@@ -234,8 +234,11 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 		node[s].mean = Vec3(0, 0, 0), node[s].area = 0, node[s].radius = 1.0; // (radius: min dot)
 	for (size_t f = 0; f < t.nF; ++f) {
 		Node &x = node[size_t(p.label[f])];
-		x.area += t.faceArea[f];
-		x.mean += t.faceNormal[f] * t.faceArea[f];
+		Vec3 normal;
+		double area;
+		t.faceNormal.normalAndArea(f, normal, area);
+		x.area += area;
+		x.mean += normal * area;
 	}
 	for (size_t s = 0; s < n; ++s)
 		if (node[s].mean.Norm() > 0)

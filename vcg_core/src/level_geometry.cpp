@@ -434,8 +434,9 @@ void LevelRounds::fillStats(size_t fallbacks, size_t vertices)
 			continue;
 		}
 		maxDev = std::max(maxDev, double(dev[f]));
-		sum += double(dev[f]) * t_.faceArea[f];
-		area += t_.faceArea[f];
+		const double a = t_.faceArea[f];
+		sum += double(dev[f]) * a;
+		area += a;
 	}
 	st.maxNormalDevDeg = maxDev;
 	st.meanNormalDevDeg = area > 0 ? sum / area : 0;

@@ -10,29 +10,37 @@
 namespace gausslod {
 namespace detail {
 
+double faceCross(const double *P, const int32_t *T, size_t f, Vec3 &cross)
+{
+	auto pos = [&](int32_t v) {
+		return Vec3(P[3 * size_t(v)], P[3 * size_t(v) + 1], P[3 * size_t(v) + 2]);
+	};
+	const int32_t a = T[3 * f], b = T[3 * f + 1], c = T[3 * f + 2];
+	cross = (pos(b) - pos(a)) ^ (pos(c) - pos(a));
+	return cross.Norm();
+}
+
 namespace {
 
+// Which faces are valid; their normals and areas are computed from the positions when asked
+// (FaceMeasure).
 void computeFaces(Topology &t, size_t threads)
 {
-	t.faceNormal.assign(t.nF, Vec3(0, 0, 0));
-	t.faceArea.assign(t.nF, 0.0);
 	t.faceValid.assign(t.nF, 0);
 	// Faces smaller than this (relative to the model size) have no reliable normal.
 	const double minCross = 1e-20 * t.diagonal * t.diagonal;
 	parallelRanges(t.nF, threads, [&](size_t begin, size_t end, size_t) {
 		for (size_t f = begin; f < end; ++f) {
-			const int32_t a = t.T[3 * f], b = t.T[3 * f + 1], c = t.T[3 * f + 2];
 			if (t.faceDropped[f])
 				continue;
-			const Vec3 n = (t.pos(b) - t.pos(a)) ^ (t.pos(c) - t.pos(a));
-			const double len = n.Norm();
-			if (!std::isfinite(len) || len <= minCross)
-				continue;
-			t.faceNormal[f] = n / len;
-			t.faceArea[f] = 0.5 * len;
-			t.faceValid[f] = 1;
+			Vec3 n;
+			const double len = faceCross(t.P, t.T, f, n);
+			t.faceValid[f] = std::isfinite(len) && len > minCross;
 		}
 	});
+	const FaceMeasure measure{t.P, t.T, t.faceValid.data()};
+	static_cast<FaceMeasure &>(t.faceNormal) = measure;
+	static_cast<FaceMeasure &>(t.faceArea) = measure;
 }
 
 // Vertex -> faces (CSR) over the faces that are not dropped.
@@ -189,11 +197,14 @@ void classifyVertices(Topology &t, double thresholdDeg, size_t threads)
 {
 	t.vertexClass.assign(t.nV, kFlat);
 	parallelRanges(t.nV, threads, [&](size_t vBegin, size_t vEnd, size_t) {
+		std::vector<Vec3> normal; // of the vertex's faces (each computed once: see FaceMeasure)
 		for (size_t v = vBegin; v < vEnd; ++v) {
 			const int32_t begin = t.vfStart[v], end = t.vfStart[v + 1];
+			normal.resize(size_t(end - begin));
 			Vec3 mean(0, 0, 0);
 			for (int32_t i = begin; i < end; ++i)
-				mean += t.faceNormal[size_t(t.vfFace[size_t(i)])];
+				mean += normal[size_t(i - begin)] = t.faceNormal[size_t(t.vfFace[size_t(i)])];
+			// the position of the face farthest from dir (among `group`), -1 if none
 			auto farthestFrom = [&](const Vec3 &dir, int group, const Vec3 *b1, const Vec3 *b2) {
 				int32_t best = -1;
 				double bestDot = HUGE_VAL;
@@ -201,13 +212,13 @@ void classifyVertices(Topology &t, double thresholdDeg, size_t threads)
 					const int32_t f = t.vfFace[size_t(i)];
 					if (!t.faceValid[size_t(f)])
 						continue;
-					const Vec3 &n = t.faceNormal[size_t(f)];
+					const Vec3 &n = normal[size_t(i - begin)];
 					if (group >= 0 && (n.dot(*b1) >= n.dot(*b2) ? 0 : 1) != group)
 						continue;
 					const double d = n.dot(dir);
 					if (d < bestDot) {
 						bestDot = d;
-						best = f;
+						best = i - begin;
 					}
 				}
 				return best;
@@ -215,8 +226,8 @@ void classifyVertices(Topology &t, double thresholdDeg, size_t threads)
 			const int32_t f1 = farthestFrom(mean, -1, nullptr, nullptr);
 			if (f1 < 0)
 				continue;
-			const Vec3 b1 = t.faceNormal[size_t(f1)];
-			const Vec3 b2 = t.faceNormal[size_t(farthestFrom(b1, -1, nullptr, nullptr))];
+			const Vec3 b1 = normal[size_t(f1)];
+			const Vec3 b2 = normal[size_t(farthestFrom(b1, -1, nullptr, nullptr))];
 			const double a1 = angleDeg(b1, b2);
 			if (a1 < thresholdDeg)
 				continue;
@@ -226,9 +237,9 @@ void classifyVertices(Topology &t, double thresholdDeg, size_t threads)
 				const int32_t g1 = farthestFrom(base, group, &b1, &b2);
 				if (g1 < 0)
 					continue;
-				const Vec3 e1 = t.faceNormal[size_t(g1)];
+				const Vec3 e1 = normal[size_t(g1)];
 				const int32_t g2 = farthestFrom(e1, group, &b1, &b2);
-				a2 = std::max(a2, angleDeg(e1, t.faceNormal[size_t(g2)]));
+				a2 = std::max(a2, angleDeg(e1, normal[size_t(g2)]));
 			}
 			t.vertexClass[v] = a2 > thresholdDeg ? kCorner : kEdge;
 		}
@@ -334,10 +345,14 @@ void buildFaceGrid(Topology &t)
 	// the rounded axis), and s / 254 >= sin of the widest angle from it, rounded up with a
 	// margin of one step (far above the rounding of the dot products that use it)
 	g.cone.resize(buckets);
+	std::vector<Vec3> normal; // of a bucket's faces (each computed once: see FaceMeasure)
 	for (size_t c = 0; c < buckets; ++c) {
 		Vec3 sum(0, 0, 0);
-		for (int32_t i = g.start[c]; i < g.start[c + 1]; ++i)
-			sum += t.faceNormal[size_t(g.face[size_t(i)])];
+		normal.clear();
+		for (int32_t i = g.start[c]; i < g.start[c + 1]; ++i) {
+			normal.push_back(t.faceNormal[size_t(g.face[size_t(i)])]);
+			sum += normal.back();
+		}
 		const double len = sum.Norm();
 		if (!(len > 0)) {
 			g.cone[c] = FaceGrid::packCone(0, 0, 0, 255);
@@ -348,8 +363,8 @@ void buildFaceGrid(Topology &t)
 			q[k] = int(std::lround(127.0 * sum[k] / len));
 		const Vec3 axis = Vec3(q[0], q[1], q[2]).Normalize();
 		double minCos = 1;
-		for (int32_t i = g.start[c]; i < g.start[c + 1]; ++i)
-			minCos = std::min(minCos, t.faceNormal[size_t(g.face[size_t(i)])].dot(axis));
+		for (const Vec3 &n : normal)
+			minCos = std::min(minCos, n.dot(axis));
 		int s = 255;
 		if (minCos > 0) {
 			const double sine = std::sqrt(std::max(0.0, 1.0 - minCos * minCos));
