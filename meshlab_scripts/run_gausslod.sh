@@ -87,6 +87,12 @@ param() { # value of <Param name="$1" ...> in the script, or empty
     sed 's/^value="//; s/"$//' || true
 }
 max_level=$(param maxLevel); max_level=${max_level:-5}
+# levels by target (levelsBy "faces:50%,25%" or "error:0.01%,0.2%"): one level per target; a bad
+# list is the filter's to explain
+levels_by=$(param levelsBy | tr -d ' ' | tr '[:upper:]' '[:lower:]')
+case $levels_by in
+  faces:?* | error:?*) max_level=$(echo "${levels_by#*:}" | awk -F, '{ print NF }') ;;
+esac
 output_levels=$(param outputLevels); output_levels=${output_levels:-all}
 [[ $max_level =~ ^[0-9]+$ ]] && [ "$max_level" -ge 1 ] ||
   die 2 "maxLevel '$max_level' in $script is not a positive number"
@@ -175,6 +181,10 @@ level_stats() {
 level_distance() {
   grep -m1 "^LOG: [0-9]* LOD$1 (" "$log" | LC_ALL=C sed -E -n 's/.*; distance bound ([0-9.]+) % of the diagonal.*/\1/p'
 }
+# levels by target: the level's target and whether it was reached
+level_target() {
+  grep -m1 "^LOG: [0-9]* LOD$1 (" "$log" | LC_ALL=C sed -E -n 's/.*; target (.*), distance tolerance ([0-9.e+-]+) %.*/target \1, tolerance \2 %/p'
+}
 missing=0
 fmt='%-6s %10s %10s %10s %9s %9s %9s %9s %8s %10s  %s\n'
 repairs=$(grep -m1 -o 'Input repairs (the input layer is unchanged): .*' "$log" || true)
@@ -221,6 +231,8 @@ for i in "${!levels[@]}"; do
   dist=$(level_distance "${levels[$i]}")
   printf "$fmt" "LOD${levels[$i]}" "$faces" "$verts" "${sf:--}" "${fb:--}" "${bound:--}" \
     "${maxdev:--}" "${meandev:--}" "${secs:--}" "${dist:--}" "$f"
+  target=$(level_target "${levels[$i]}")
+  [ -z "$target" ] || echo "       $target"
 done
 if [ $missing -ne 0 ]; then
   show_log

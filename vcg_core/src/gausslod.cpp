@@ -178,6 +178,97 @@ void keepFinerLevel(const MeshView &mesh, int level, std::vector<detail::Partiti
 	lm.stats.reusedFiner = true;
 }
 
+// The distance tolerance of `level`, fraction of the diagonal (0 = none), as levelLimits reads it.
+double levelTolerance(const Params &p, int level)
+{
+	return p.levelDistances.empty()
+	           ? p.maxDistance * std::pow(p.distanceGrowth, p.maxLevel - 1 - level)
+	           : p.levelDistances[size_t(level)];
+}
+
+// Levels by face count: the level's face budget (percentages of the input's faces, rounded down).
+size_t faceTarget(const Params &p, int level, size_t inputFaces)
+{
+	const double t = p.levelFaces[size_t(level)];
+	return p.levelFacesRelative ? size_t(std::floor(t * double(inputFaces) * (1 + 1e-12)))
+	                            : size_t(t);
+}
+
+// The tolerance search of the faces mode: bisection of the tolerance's logarithm between these
+// (fractions of the diagonal; at the top the distance check refuses nothing: only the normal
+// bound limits merging), at most this many bisection steps (plus the build at the top), ended
+// early once a level is within 0.5 % below its budget.
+constexpr double kSearchLogLo = -6, kSearchLogHi = 0;
+constexpr int kSearchSteps = 10;
+
+// Levels by face count: builds `level` with the distance tolerance that gives it the most faces
+// within `target` (the least error within the budget), into lm, and its partition into
+// parts[level]. Every trial starts from the same merged partition (the geometry's fallbacks split
+// it). If even the top tolerance gives more faces than the target, that build is kept (the
+// target is not reached). Deterministic: the trials and the choice depend on face counts only.
+void buildToFaceTarget(const detail::Topology &topo, const Params &params,
+                       std::vector<detail::Partition> &parts, int level, size_t target,
+                       size_t faceLimit, const detail::SplitCost *cost, LevelMesh &lm)
+{
+	using namespace detail;
+	Params trial = params;
+	trial.levelFaces.clear();
+	trial.levelDistances.assign(size_t(params.maxLevel), 1.0); // (only this level's is read)
+	Partition &p = parts[size_t(level)];
+	const Partition start = p;
+	Partition bestPart;
+	size_t bestFaces = 0;
+	double bestTol = 0;
+	int trials = 0;
+	// builds with tolerance 10^logTol; true if the level's faces (above the finer level's count
+	// the level will be the finer one) fit the budget and are the best so far
+	auto run = [&](double logTol) {
+		const double tol = std::pow(10.0, logTol);
+		trial.levelDistances[size_t(level)] = tol;
+		if (trials++ > 0)
+			p = start;
+		LevelMesh out;
+		buildLevelGeometry(topo, trial, parts, p, out, faceLimit, cost);
+		const size_t faces = std::min(out.stats.faces, faceLimit);
+		const bool first = trials == 1;
+		const bool fits = faces <= target;
+		// (a fitting trial always has the smallest tolerance of the fitting ones so far)
+		if (first || (fits && faces >= bestFaces)) {
+			lm = std::move(out);
+			bestPart = p;
+			bestFaces = faces;
+			bestTol = tol;
+		}
+		return fits;
+	};
+	bool reached = run(kSearchLogHi);
+	double lo = kSearchLogLo, hi = kSearchLogHi;
+	for (int step = 0; reached && step < kSearchSteps && target - bestFaces > target / 200;
+	     ++step) {
+		const double mid = 0.5 * (lo + hi);
+		(run(mid) ? hi : lo) = mid;
+	}
+	p = std::move(bestPart);
+	lm.stats.tolerance = bestTol;
+	lm.stats.trials = trials;
+}
+
+// What a level was asked for (levels by target) and whether it got it.
+void setTargetStats(const Params &p, int level, size_t target, double diagonal, LevelStats &st)
+{
+	st.targetFaces = 0;
+	st.targetDistance = -1;
+	st.targetReached = true;
+	if (!p.levelFaces.empty()) {
+		st.targetFaces = target;
+		st.targetReached = st.faces <= target;
+	} else if (!p.levelDistances.empty()) {
+		st.targetDistance = p.levelDistances[size_t(level)];
+		// (the measured distances are floats)
+		st.targetReached = st.maxDistance <= st.targetDistance * diagonal * (1 + 1e-6);
+	}
+}
+
 template <class Fn>
 Result guarded(Result &res, Fn fn)
 {
@@ -260,16 +351,31 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 					mergeAcrossCells(topo, acrossLimit(level), parts[size_t(level)]);
 			}
 			LevelMesh lm;
-			lm.stats.secondsPartition = since(tl) + (level == finest ? setup : 0.0);
-			const bool share = level < finest && params.maxDistance > 0;
+			const double partitionSeconds = since(tl) + (level == finest ? setup : 0.0);
+			const bool byFaces = !params.levelFaces.empty();
+			const double tolerance = byFaces ? 1.0 : levelTolerance(params, level);
+			const bool share = level < finest && tolerance > 0;
 			if (share)
 				triangleShare(parts[size_t(level) + 1], finer, finerCost);
-			buildLevelGeometry(topo, params, parts, parts[size_t(level)], lm,
-			                   level < finest ? finer.stats.faces : SIZE_MAX,
-			                   share ? &finerCost : nullptr);
+			const size_t faceLimit = level < finest ? finer.stats.faces : SIZE_MAX;
+			const size_t target = byFaces ? faceTarget(params, level, mesh.faceCount) : 0;
+			if (byFaces) {
+				buildToFaceTarget(topo, params, parts, level, target, faceLimit,
+				                  share ? &finerCost : nullptr, lm);
+			} else {
+				buildLevelGeometry(topo, params, parts, parts[size_t(level)], lm, faceLimit,
+				                   share ? &finerCost : nullptr);
+				lm.stats.tolerance = tolerance;
+			}
+			const double chosen = lm.stats.tolerance;
+			const int trials = lm.stats.trials;
+			lm.stats.secondsPartition = partitionSeconds;
 			if (level < finest && lm.stats.faces > finer.stats.faces)
 				keepFinerLevel(mesh, level, parts, finer, lm);
 			lm.stats.seconds = since(tl) + (level == finest ? setup : 0.0);
+			lm.stats.tolerance = chosen;
+			lm.stats.trials = trials;
+			setTargetStats(params, level, target, topo.diagonal, lm.stats);
 			lm.stats.input = res.input;
 			if (const size_t lost = uncoveredFaces(topo, lm))
 				return fail(res, ErrorKind::Internal,
