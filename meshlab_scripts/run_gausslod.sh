@@ -137,7 +137,21 @@ tmp=$(mktemp -d "${TMPDIR:-/tmp}/gausslod-run.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 mkdir -p "$tmp/config" "$tmp/runtime"; chmod 700 "$tmp/runtime"
 
-outputs=() args=(-i "$input_abs" -s "$script")
+# a script written before the filter had its levelsBy parameter: meshlabserver 2020.09 aborts on
+# a script that lacks any of the filter's parameters, so a copy gets it (levels by angle, what
+# such a script meant)
+run_script=$script
+if ! grep -q 'name="levelsBy"' "$script"; then
+  run_script=$tmp/script.mlx
+  awk -v f="$filter_name" '
+    index($0, "<filter") && index($0, "name=\"" f "\"") { in_filter = 1 }
+    in_filter && /<\/filter>/ {
+      print "  <Param type=\"RichString\" name=\"levelsBy\" value=\"angle\" description=\"Levels by\"/>"
+      in_filter = 0
+    }
+    { print }' "$script" >"$run_script"
+fi
+outputs=() args=(-i "$input_abs" -s "$run_script")
 for i in "${!levels[@]}"; do
   f=$outdir/${name}_LOD${levels[$i]}.ply
   rm -f "$f"

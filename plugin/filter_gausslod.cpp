@@ -203,7 +203,7 @@ QString levelLogLine(const gausslod::LevelStats &s, double diag)
 	if (s.reusedFiner)
 		line += QString("; same mesh as LOD%1 (merging gave more faces)").arg(s.level + 1);
 	if (s.targetFaces > 0 || s.targetDistance >= 0)
-		line += QString("; target %1 %2, distance tolerance %3 % of the diagonal (%4 builds)")
+		line += QString("; target %1 %2, distance tolerance %3 % of the diagonal (%4 build%5)")
 		            .arg(s.targetDistance >= 0
 		                     ? QString("%1 % of the diagonal")
 		                           .arg(QString::number(100.0 * s.targetDistance, 'g', 6))
@@ -213,7 +213,8 @@ QString levelLogLine(const gausslod::LevelStats &s, double diag)
 		                                         : "NOT reached (the level's normal bound stops "
 		                                           "merging before it)")
 		            .arg(QString::number(100.0 * s.tolerance, 'g', 4))
-		            .arg(s.trials);
+		            .arg(s.trials)
+		            .arg(s.trials == 1 ? "" : "s");
 	return line;
 }
 

@@ -131,18 +131,27 @@ TEST(Quality, the_default_tolerance_grows_by_level_and_coarser_levels_stay_coars
 // models, with as many faces as fit; an unreachable budget is reported, never hidden.
 TEST(Quality, levels_by_face_budget_meet_their_budget_on_real_models)
 {
-	for (const char *name : {"fandisk.off", "cow.off"}) {
-		SCOPED_TRACE(name);
-		const FlatMesh m = loadOff(name);
+	// budgets within each level's reach (the cow's curved surface: its coarsest level, bound
+	// 127 deg, merges down to about 57 % of its faces, then the normal limit stops it)
+	struct Case {
+		const char *name, *levelsBy;
+		int percent[3]; // by level
+	};
+	for (const Case &c : {Case{"fandisk.off", "faces:10%,50%,25%", {10, 25, 50}},
+	                      Case{"cow.off", "faces:90%, 60%,70%", {60, 70, 90}}}) {
+		SCOPED_TRACE(c.name);
+		const FlatMesh m = loadOff(c.name);
 		const size_t nF = m.triangles.size() / 3;
 		Params prm;
 		std::string error;
-		ASSERT_TRUE(parseLevelsBy("faces:10%,50%,25%", prm, error)) << error;
+		ASSERT_TRUE(parseLevelsBy(c.levelsBy, prm, error)) << error;
 		ASSERT_EQ(prm.maxLevel, 3);
 		const Result r = buildLevels(m.view(), prm);
 		ASSERT_TRUE(r.ok) << r.error;
 		ASSERT_EQ(r.levels.size(), 3u);
-		const size_t want[3] = {nF * 10 / 100, nF * 25 / 100, nF * 50 / 100}; // by level
+		size_t want[3]; // by level
+		for (int i = 0; i < 3; ++i)
+			want[i] = nF * size_t(c.percent[i]) / 100;
 		for (const LevelMesh &lm : r.levels) {
 			const LevelStats &s = lm.stats;
 			SCOPED_TRACE("LOD" + std::to_string(s.level));
@@ -161,15 +170,19 @@ TEST(Quality, levels_by_face_budget_meet_their_budget_on_real_models)
 			if (!s.reusedFiner)
 				EXPECT_LE(s.maxDistance, s.tolerance * bboxDiagonal(m.view()) * (1 + 1e-6));
 		}
-		// a budget out of the finest level's reach (its normal bound, 0.52 deg at 6 levels of 8
-		// ... here level 7 of 8: 0.058 deg): kept as close as it gets, reported not reached
+		// budgets out of reach (at most 8 faces at every level): kept as close as they get,
+		// reported not reached, after one build (at the top tolerance)
 		Params tight;
 		ASSERT_TRUE(parseLevelsBy("faces:1,2,3,4,5,6,7,8", tight, error)) << error;
 		const Result t = buildLevels(m.view(), tight);
 		ASSERT_TRUE(t.ok) << t.error;
 		EXPECT_FALSE(t.levels.front().stats.targetReached);
 		EXPECT_GT(t.levels.front().stats.faces, 8u);
-		EXPECT_EQ(t.levels.front().stats.trials, 1);
+		for (const LevelMesh &lm : t.levels) {
+			EXPECT_FALSE(lm.stats.targetReached);
+			EXPECT_GT(lm.stats.faces, lm.stats.targetFaces);
+			EXPECT_EQ(lm.stats.trials, 1);
+		}
 	}
 }
 

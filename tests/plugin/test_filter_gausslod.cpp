@@ -306,7 +306,7 @@ TEST_F(GaussLodPlugin, default_script_runs_in_process_like_meshlabserver)
 TEST_F(GaussLodPlugin, levels_by_face_budget_make_one_layer_per_budget_within_it)
 {
 	MeshDocument md;
-	MeshModel *input = loadOffLayer(md, dataFile("cow.off"));
+	MeshModel *input = loadOffLayer(md, dataFile("fandisk.off"));
 	const LayerSnapshot before(*input);
 	RichParameterList par = defaults(md);
 	par.setValue("levelsBy", StringValue("faces:10%, 50%,25%"));
@@ -327,12 +327,32 @@ TEST_F(GaussLodPlugin, levels_by_face_budget_make_one_layer_per_budget_within_it
 		EXPECT_GT(lm->cm.fn, budget * 85 / 100) << "LOD" << level;
 		const QRegularExpression line(
 		    QString("^LOD%1 .*; target %2 faces reached, distance tolerance [0-9.e+-]+ % of the "
-		            "diagonal \\([0-9]+ builds\\)$")
+		            "diagonal \\([0-9]+ builds?\\)$")
 		        .arg(level)
 		        .arg(QLocale(QLocale::English).toString(budget)));
 		EXPECT_EQ(lines.filter(line).size(), 1) << qUtf8Printable(lines.join("\n"));
 	}
 	EXPECT_EQ(lines.filter("Levels by faces:50%,25%,10%: 3 levels").size(), 1)
+	    << qUtf8Printable(lines.join("\n"));
+}
+
+// A budget out of reach (the cow's curved surface keeps more than half its faces at the coarsest
+// level's bound): the layer is as close as it gets and the log says so.
+TEST_F(GaussLodPlugin, an_out_of_reach_budget_is_reported_in_the_log)
+{
+	MeshDocument md;
+	loadOffLayer(md, dataFile("cow.off"));
+	RichParameterList par = defaults(md);
+	par.setValue("levelsBy", StringValue("faces:10%"));
+	ASSERT_TRUE(apply(md, par)) << qUtf8Printable(filter->errorMsg());
+	ASSERT_EQ(md.size(), 2);
+	EXPECT_GT(md.meshList.at(1)->cm.fn, 580);
+	const QStringList lines = logLines();
+	EXPECT_EQ(lines.filter(QRegularExpression("^LOD0 .*; target 580 faces NOT reached \\(the "
+	                                          "level's normal bound stops merging before it\\), "
+	                                          "distance tolerance 100 % of the diagonal \\(1 build\\)$"))
+	              .size(),
+	          1)
 	    << qUtf8Printable(lines.join("\n"));
 }
 

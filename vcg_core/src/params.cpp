@@ -38,7 +38,7 @@ std::vector<Entry> makeEntries()
 	      double(d.maxLevel), 1, kLevels, false, true},
 	     &Params::maxLevel},
 	    {{"levelsBy", K::LevelTargets, "Levels by",
-	      "angle (default), faces:50%,25%,... or faces:20000,5000, or error:0.01%,0.2%,...",
+	      "what sets the levels: angle, faces:50%,25%,... (or counts) or error:0.01%,0.2%,...",
 	      "Beyond the paper: what sets the levels. \"angle\" (or empty, the default): the "
 	      "paper's levels, 'Number of levels' of them, each as coarse as its normal bound and "
 	      "the distance tolerance allow. \"faces:\" and a comma list of face budgets, as "
@@ -236,9 +236,10 @@ std::string validateTargets(const Params &p)
 		                                             : v >= 1 && v < 4e18 && v == std::floor(v)
 		                      : v > 0 && v <= 1;
 		if (!std::isfinite(v) || !in)
-			return std::string(name) + ": target " + number(faces && p.levelFacesRelative ? 100 * v
-			                                                 : faces                     ? v
-			                                                                             : 100 * v) +
+			return std::string(name) + ": target " +
+			       number(faces && p.levelFacesRelative ? 100 * v
+			              : faces                       ? v
+			                                            : 100 * v) +
 			       (faces ? p.levelFacesRelative ? " %" : " faces" : " %") + " of level " +
 			       std::to_string(i) + " must be " +
 			       (faces ? p.levelFacesRelative ? "above 0 and at most 100 % of the input's faces"
@@ -303,8 +304,9 @@ bool parseLevelsBy(const std::string &text, Params &params, std::string &error)
 		double v = 0;
 		bool percent = false;
 		if (!parseTarget(item, v, percent)) {
-			error = name + "'" + item + "' is not a number" +
-			        (faces ? " (a percentage like 50% or a face count)" : " (a percentage like 0.05%)");
+			error =
+			    name + "'" + item + "' is not a number" +
+			    (faces ? " (a percentage like 50% or a face count)" : " (a percentage like 0.05%)");
 			return false;
 		}
 		if (!(v > 0)) {
