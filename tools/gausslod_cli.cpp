@@ -561,7 +561,7 @@ int main(int argc, char **argv)
 				std::printf("attributes carried: %s\n", carried.c_str());
 			if (targets)
 				std::printf("levels by %s\n", gausslod::levelsByText(o.params).c_str());
-			std::printf("%-6s %9s %9s %10s %9s %9s %9s %9s %8s%s%s%s\n", "level", "faces", "vertices",
+			std::printf("%-6s %9s %9s %10s %9s %9s %9s %9s %8s%s%s%s%s\n", "level", "faces", "vertices",
 			            "superfaces", "fallback", "bound", "maxdev", "meandev", "seconds",
 			            distance ? " distbound%" : "", texture ? "     texerr" : "",
 			            targets ? (o.params.levelFaces.empty() ? "    target%" : "     target")
