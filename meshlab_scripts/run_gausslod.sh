@@ -87,6 +87,12 @@ param() { # value of <Param name="$1" ...> in the script, or empty
     sed 's/^value="//; s/"$//' || true
 }
 max_level=$(param maxLevel); max_level=${max_level:-5}
+# levels by target (levelsBy "faces:50%,25%" or "error:0.01%,0.2%"): one level per target; a bad
+# list is the filter's to explain
+levels_by=$(param levelsBy | tr -d ' ' | tr '[:upper:]' '[:lower:]')
+case $levels_by in
+  faces:?* | error:?*) max_level=$(echo "${levels_by#*:}" | awk -F, '{ print NF }') ;;
+esac
 output_levels=$(param outputLevels); output_levels=${output_levels:-all}
 [[ $max_level =~ ^[0-9]+$ ]] && [ "$max_level" -ge 1 ] ||
   die 2 "maxLevel '$max_level' in $script is not a positive number"
@@ -131,7 +137,21 @@ tmp=$(mktemp -d "${TMPDIR:-/tmp}/gausslod-run.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 mkdir -p "$tmp/config" "$tmp/runtime"; chmod 700 "$tmp/runtime"
 
-outputs=() args=(-i "$input_abs" -s "$script")
+# a script written before the filter had its levelsBy parameter: meshlabserver 2020.09 aborts on
+# a script that lacks any of the filter's parameters, so a copy gets it (levels by angle, what
+# such a script meant)
+run_script=$script
+if ! grep -q 'name="levelsBy"' "$script"; then
+  run_script=$tmp/script.mlx
+  awk -v f="$filter_name" '
+    index($0, "<filter") && index($0, "name=\"" f "\"") { in_filter = 1 }
+    in_filter && /<\/filter>/ {
+      print "  <Param type=\"RichString\" name=\"levelsBy\" value=\"angle\" description=\"Levels by\"/>"
+      in_filter = 0
+    }
+    { print }' "$script" >"$run_script"
+fi
+outputs=() args=(-i "$input_abs" -s "$run_script")
 for i in "${!levels[@]}"; do
   f=$outdir/${name}_LOD${levels[$i]}.ply
   rm -f "$f"
@@ -174,6 +194,10 @@ level_stats() {
 # the distance bound the tolerance check measured (% of the diagonal), if the tolerance is on
 level_distance() {
   grep -m1 "^LOG: [0-9]* LOD$1 (" "$log" | LC_ALL=C sed -E -n 's/.*; distance bound ([0-9.]+) % of the diagonal.*/\1/p'
+}
+# levels by target: the level's target and whether it was reached
+level_target() {
+  grep -m1 "^LOG: [0-9]* LOD$1 (" "$log" | LC_ALL=C sed -E -n 's/.*; target (.*), distance tolerance ([0-9.e+-]+) %.*/target \1, tolerance \2 %/p'
 }
 missing=0
 fmt='%-6s %10s %10s %10s %9s %9s %9s %9s %8s %10s  %s\n'
@@ -221,6 +245,8 @@ for i in "${!levels[@]}"; do
   dist=$(level_distance "${levels[$i]}")
   printf "$fmt" "LOD${levels[$i]}" "$faces" "$verts" "${sf:--}" "${fb:--}" "${bound:--}" \
     "${maxdev:--}" "${meandev:--}" "${secs:--}" "${dist:--}" "$f"
+  target=$(level_target "${levels[$i]}")
+  [ -z "$target" ] || echo "       $target"
 done
 if [ $missing -ne 0 ]; then
   show_log

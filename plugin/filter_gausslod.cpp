@@ -117,7 +117,7 @@ bool readRequest(const RichParameterList &par, double diag, FilterRequest &req, 
 {
 	using gausslod::ParamKind;
 	gausslod::Params &p = req.params;
-	std::string outputLevels;
+	std::string outputLevels, levelsBy;
 	for (const gausslod::ParamSpec &s : gausslod::paramSpecs()) {
 		if (!s.inFilter)
 			continue;
@@ -129,9 +129,17 @@ bool readRequest(const RichParameterList &par, double diag, FilterRequest &req, 
 			gausslod::setParam(p, s, fractionFromAbsPerc(par, s.name, diag));
 			break;
 		case ParamKind::LevelList: outputLevels = par.getString(s.name).toStdString(); break;
+		case ParamKind::LevelTargets: // (scripts written before it have none: levels by angle)
+			if (par.hasParameter(s.name))
+				levelsBy = par.getString(s.name).toStdString();
+			break;
 		}
 	}
-	std::string message = gausslod::validateParams(p);
+	// levels by target: one level per target ('Number of levels' is then the number of targets)
+	std::string message;
+	gausslod::parseLevelsBy(levelsBy, p, message);
+	if (message.empty())
+		message = gausslod::validateParams(p);
 	if (message.empty())
 		gausslod::parseOutputLevels(outputLevels, p.maxLevel, p.outputLevels, message);
 	if (!message.empty()) {
@@ -194,6 +202,19 @@ QString levelLogLine(const gausslod::LevelStats &s, double diag)
 		            .arg(QString::number(100.0 * s.maxDistance / diag, 'f', 4));
 	if (s.reusedFiner)
 		line += QString("; same mesh as LOD%1 (merging gave more faces)").arg(s.level + 1);
+	if (s.targetFaces > 0 || s.targetDistance >= 0)
+		line += QString("; target %1 %2, distance tolerance %3 % of the diagonal (%4 build%5)")
+		            .arg(s.targetDistance >= 0
+		                     ? QString("%1 % of the diagonal")
+		                           .arg(QString::number(100.0 * s.targetDistance, 'g', 6))
+		                     : QString("%1 faces").arg(thousands(s.targetFaces)))
+		            .arg(s.targetReached          ? "reached"
+		                 : s.targetDistance >= 0 ? "NOT reached (measured above it)"
+		                                         : "NOT reached (the level's normal bound stops "
+		                                           "merging before it)")
+		            .arg(QString::number(100.0 * s.tolerance, 'g', 4))
+		            .arg(s.trials)
+		            .arg(s.trials == 1 ? "" : "s");
 	return line;
 }
 
@@ -214,6 +235,8 @@ std::unique_ptr<RichParameter> richParameter(const gausslod::ParamSpec &s, float
 	case ParamKind::DiagonalFraction:
 		return std::unique_ptr<RichParameter>(
 		    new RichAbsPerc(name, diag * float(s.defaultValue), 0.0f, diag, label, tip));
+	case ParamKind::LevelTargets:
+		return std::unique_ptr<RichParameter>(new RichString(name, "angle", label, tip));
 	case ParamKind::LevelList: break;
 	}
 	return std::unique_ptr<RichParameter>(new RichString(name, "all", label, tip));
@@ -257,7 +280,8 @@ QString FilterGaussLodPlugin::filterInfo(FilterIDType filter) const
 		       "re-triangulated (constrained Delaunay); coarser levels merge superfaces of sibling "
 		       "cells, so the face count never grows. Beyond the paper: superfaces of neighbouring "
 		       "cells merge within the level's bound (on by default), and an optional distance "
-		       "tolerance bounds how far a level moves the surface. Each level becomes a new layer "
+		       "tolerance bounds how far a level moves the surface; 'Levels by' asks for levels by "
+		       "face budget or by distance tolerance instead of by angle. Each level becomes a new layer "
 		       "(the input is left untouched); the log gives per level the faces, superfaces, "
 		       "fallbacks and measured deviation.<br><br>"
 		       "See: <br><i>Cao Weiqun, Bao Hujun, Peng Qunsheng</i><br>"
@@ -464,6 +488,11 @@ bool FilterGaussLodPlugin::buildGaussSphereLods(MeshDocument &md, const RichPara
 	                                    : "; superface colouring off (the layer has its own colours)"
 	                 : "")
 	        .toStdString());
+	if (!req.params.levelFaces.empty() || !req.params.levelDistances.empty())
+		Log(QString("Levels by %1: %2 levels, one per target")
+		        .arg(QString::fromStdString(gausslod::levelsByText(req.params)))
+		        .arg(req.params.maxLevel)
+		        .toStdString());
 	for (const gausslod::LevelMesh &level : result.levels)
 		Log(levelLogLine(level.stats, diag).toStdString());
 	Log(QString(

@@ -178,7 +178,8 @@ std::string resultJson(const Line &l, const std::string &input, const Outcome &o
 // Every option value that changes the files (not threads: the output does not depend on it).
 std::string optionsKey(const Options &o)
 {
-	std::string key = "out=" + o.outputLevels + " colour=" + std::to_string(int(o.colour)) +
+	std::string key = "out=" + o.outputLevels + " by=" + gausslod::levelsByText(o.params) +
+	                  " colour=" + std::to_string(int(o.colour)) +
 	                  " overwrite=" + std::to_string(int(o.overwriteColours)) + " format=" +
 	                  (o.format.empty() ? "input" : o.format);
 	char buf[64];

@@ -25,6 +25,8 @@ enum Exit {
 struct Options {
 	gausslod::Params params;           ///< the engine's (--kebab-case of their names)
 	std::string outputLevels = "all"; ///< the text form of params.outputLevels
+	std::string levelsBy = "angle";   ///< --levels-by: the text form of the targets
+	int maxLevel = gausslod::Params{}.maxLevel; ///< --max-level (the levels by angle)
 	bool colour = true;                ///< --colour-superfaces (only where the input has no colour)
 	bool overwriteColours = false;     ///< --overwrite-colours: superface colours replace the input's
 	std::string format;                ///< --format ply|obj|off|stl; "" = the input's

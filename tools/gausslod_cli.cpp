@@ -70,6 +70,10 @@ bool setFromText(const gausslod::ParamSpec &s, const std::string &flag, const st
 		o.outputLevels = text;
 		return true;
 	}
+	if (s.kind == ParamKind::LevelTargets) {
+		o.levelsBy = text;
+		return true;
+	}
 	bool b = false;
 	double v = 0;
 	if (s.kind == ParamKind::Flag) {
@@ -149,13 +153,15 @@ const char *optionHelp()
 		char line[512];
 		for (const gausslod::ParamSpec &s : gausslod::paramSpecs()) {
 			const bool pct = s.kind == ParamKind::DiagonalFraction;
-			const char *arg = s.kind == ParamKind::Flag        ? "BOOL"
-			                  : s.kind == ParamKind::LevelList ? "L"
-			                  : pct                            ? "P"
-			                                                   : "N";
-			std::string def = s.kind == ParamKind::LevelList ? "all"
-			                  : s.kind == ParamKind::Flag    ? (s.defaultValue ? "true" : "false")
-			                                                 : "";
+			const char *arg = s.kind == ParamKind::Flag           ? "BOOL"
+			                  : s.kind == ParamKind::LevelList    ? "L"
+			                  : s.kind == ParamKind::LevelTargets ? "T"
+			                  : pct                               ? "P"
+			                                                      : "N";
+			std::string def = s.kind == ParamKind::LevelList      ? "all"
+			                  : s.kind == ParamKind::LevelTargets ? "angle"
+			                  : s.kind == ParamKind::Flag ? (s.defaultValue ? "true" : "false")
+			                                              : "";
 			if (def.empty()) {
 				std::snprintf(line, sizeof line, "%g", pct ? 100 * s.defaultValue : s.defaultValue);
 				def = line;
@@ -163,6 +169,14 @@ const char *optionHelp()
 			const std::string flag = flagOf(s.name) + " " + arg;
 			std::snprintf(line, sizeof line, "  %-22s %s (%s)\n", flag.c_str(), s.summary, def.c_str());
 			h += line;
+			if (s.kind == ParamKind::LevelTargets)
+				h += "                         faces: one level per budget (% of the input's faces\n"
+				     "                         or counts), each with its distance tolerance searched\n"
+				     "                         for the most faces within it; error: one level per\n"
+				     "                         tolerance (% of bbox diagonal). The number of targets\n"
+				     "                         (up to 8) sets the number of levels; each level keeps\n"
+				     "                         its normal bound, so a budget may be out of reach\n"
+				     "                         (the table's reached column says so)\n";
 		}
 		h += "  --colour-superfaces BOOL  colour faces by superface where the input has no colour\n"
 		     "                         of its own (no vertex or face colour, no texture\n"
@@ -181,6 +195,7 @@ const char *optionHelp()
 bool parseOptions(const std::vector<std::string> &args, Options &o,
                   std::vector<std::string> &positional, std::string &error)
 {
+	bool maxLevelGiven = false;
 	for (size_t i = 0; i < args.size(); ++i) {
 		std::string flag = args[i], value;
 		bool valueGiven = false;
@@ -223,8 +238,20 @@ bool parseOptions(const std::vector<std::string> &args, Options &o,
 				return error = flag + " needs true or false", false;
 		} else if (!setFromText(*spec, args[valueGiven ? i : i - 1], value, o, error)) {
 			return false;
+		} else if (std::string(spec->name) == "maxLevel") {
+			o.maxLevel = o.params.maxLevel;
+			maxLevelGiven = true;
 		}
 	}
+	// levels by target: the number of targets is the number of levels
+	o.params.maxLevel = o.maxLevel;
+	if (!gausslod::parseLevelsBy(o.levelsBy, o.params, error))
+		return false;
+	if (maxLevelGiven && o.params.maxLevel != o.maxLevel)
+		return error = "--levels-by " + o.levelsBy + " makes " +
+		               std::to_string(o.params.maxLevel) + " levels (one per target); --max-level " +
+		               std::to_string(o.maxLevel) + " disagrees (leave it out)",
+		       false;
 	error = gausslod::validateParams(o.params);
 	return error.empty() &&
 	       gausslod::parseOutputLevels(o.outputLevels, o.params.maxLevel, o.params.outputLevels, error);
@@ -414,6 +441,21 @@ void usage()
 	             cli::optionHelp());
 }
 
+// The table's columns of levels by target: the level's target, whether it was reached and the
+// distance tolerance it was built with (% of the diagonal).
+std::string targetColumns(const gausslod::LevelStats &s)
+{
+	char buf[96];
+	if (s.targetFaces > 0 || s.targetDistance < 0)
+		std::snprintf(buf, sizeof buf, " %10zu", s.targetFaces);
+	else
+		std::snprintf(buf, sizeof buf, " %9.4f%%", 100.0 * s.targetDistance);
+	const size_t n = std::strlen(buf);
+	std::snprintf(buf + n, sizeof buf - n, " %7s %9.4f %6d", s.targetReached ? "yes" : "NO",
+	              100.0 * s.tolerance, s.trials);
+	return buf;
+}
+
 std::string tableRow(const char *label, const gausslod::LevelStats &s, double diag, bool distance,
                      bool texture)
 {
@@ -432,6 +474,24 @@ std::string tableRow(const char *label, const gausslod::LevelStats &s, double di
 	std::snprintf(buf, sizeof buf, "%-6s %9zu %9zu %10zu %9zu %9.2f %9.2f %9.3f %8.3f%s", label,
 	              s.faces, s.vertices, s.superfaces, s.fallbacks, s.boundDeg, s.maxNormalDevDeg,
 	              s.meanNormalDevDeg, s.seconds, dist);
+	return buf;
+}
+
+// The level's JSON members of levels by target: the mode, the target (null in angle mode),
+// whether it was reached, the tolerance used (% of the diagonal) and the builds it took.
+std::string targetJson(const gausslod::Params &p, const gausslod::LevelStats &s)
+{
+	char faces[32] = "null", error[32] = "null", buf[320];
+	if (!p.levelFaces.empty())
+		std::snprintf(faces, sizeof faces, "%zu", s.targetFaces);
+	if (s.targetDistance >= 0)
+		std::snprintf(error, sizeof error, "%.6g", 100.0 * s.targetDistance);
+	const char *mode = !p.levelFaces.empty() ? "faces" : !p.levelDistances.empty() ? "error" : "angle";
+	std::snprintf(buf, sizeof buf,
+	              "\"levels_by\":\"%s\",\"target_faces\":%s,\"target_error_pct\":%s,"
+	              "\"target_reached\":%s,\"tolerance_pct\":%.6g,\"trials\":%d",
+	              mode, faces, error, s.targetReached ? "true" : "false", 100.0 * s.tolerance,
+	              s.trials);
 	return buf;
 }
 
@@ -486,7 +546,8 @@ int main(int argc, char **argv)
 	const std::string &outdir = positional[1];
 	std::string stem = input.substr(input.find_last_of('/') + 1);
 	stem = stem.substr(0, stem.find_last_of('.'));
-	const bool distance = o.params.maxDistance > 0;
+	const bool targets = !o.params.levelFaces.empty() || !o.params.levelDistances.empty();
+	const bool distance = o.params.maxDistance > 0 || targets;
 	auto done = [&](const cli::Outcome &sofar, const gausslod::LevelStats &s, const std::string &file) {
 		const bool texture = sofar.texCoords;
 		if (sofar.files.size() == 1 && !o.json) {
@@ -498,9 +559,14 @@ int main(int argc, char **argv)
 				carried += (carried.empty() ? "" : " ") + a;
 			if (!carried.empty())
 				std::printf("attributes carried: %s\n", carried.c_str());
-			std::printf("%-6s %9s %9s %10s %9s %9s %9s %9s %8s%s%s\n", "level", "faces", "vertices",
+			if (targets)
+				std::printf("levels by %s\n", gausslod::levelsByText(o.params).c_str());
+			std::printf("%-6s %9s %9s %10s %9s %9s %9s %9s %8s%s%s%s%s\n", "level", "faces", "vertices",
 			            "superfaces", "fallback", "bound", "maxdev", "meandev", "seconds",
-			            distance ? " distbound%" : "", texture ? "     texerr" : "");
+			            distance ? " distbound%" : "", texture ? "     texerr" : "",
+			            targets ? (o.params.levelFaces.empty() ? "    target%" : "     target")
+			            : "",
+			            targets ? " reached      tol% trials" : "");
 			std::printf("%-6s %9zu %9zu %10s %9s %9s %9s %9s %8s%s%s\n", "input", sofar.inputFaces,
 			            sofar.inputVertices, "-", "-", "-", "-", "-", "-",
 			            distance ? "          -" : "", texture ? "          -" : "");
@@ -516,16 +582,18 @@ int main(int argc, char **argv)
 			            "\"max_dev_deg\":%.4f,\"mean_dev_deg\":%.4f,\"unmeasured_faces\":%zu,"
 			            "\"seconds\":%.4f,\"seconds_partition\":%.4f,\"seconds_borders\":%.4f,"
 			            "\"seconds_triangulation\":%.4f,\"seconds_checks\":%.4f,\"rounds\":%d,"
-			            "\"reused_finer\":%s,\"distance_bound_pct\":%s,%s,%s,\"file\":%s%s}\n",
+			            "\"reused_finer\":%s,\"distance_bound_pct\":%s,%s,%s,%s,\"file\":%s%s}\n",
 			            s.level, s.faces, s.vertices, s.superfaces, s.fallbacks, s.retriangulated,
 			            s.boundDeg, s.maxNormalDevDeg, s.meanNormalDevDeg, s.unmeasuredFaces,
 			            s.seconds, s.secondsPartition, s.secondsBorders, s.secondsTriangulation,
 			            s.secondsChecks, s.rounds, s.reusedFiner ? "true" : "false", dist,
 			            cli::repairsJson(s.input).c_str(), cli::attributesJson(sofar, s).c_str(),
-			            cli::jsonString(file).c_str(), cli::materialFileJson(sofar).c_str());
+			            targetJson(o.params, s).c_str(), cli::jsonString(file).c_str(),
+			            cli::materialFileJson(sofar).c_str());
 		} else {
 			const std::string label = "LOD" + std::to_string(s.level);
-			std::printf("%s\n", tableRow(label.c_str(), s, diag, distance, texture).c_str());
+			std::printf("%s%s\n", tableRow(label.c_str(), s, diag, distance, texture).c_str(),
+			            targets ? targetColumns(s).c_str() : "");
 		}
 		std::fflush(stdout);
 	};

@@ -182,6 +182,39 @@ TEST(Levels, a_level_sink_gets_the_same_levels_one_at_a_time_and_can_cancel)
 	EXPECT_TRUE(cancelled.levels.empty());
 }
 
+// Levels by target (issue #17): the same guarantees, the normal limit included, and the same
+// output for any thread count.
+TEST(Levels, levels_by_target_keep_every_invariant_and_do_not_depend_on_threads)
+{
+	for (const char *name : {"cow.off", "fandisk.off", "bunny00.off"}) {
+		for (const char *by : {"faces:50%,25%,10%,5%", "error:0.01%,0.1%,1%"}) {
+			SCOPED_TRACE(std::string(name) + " " + by);
+			const FlatMesh m = loadOff(name);
+			const FlatMesh welded = weldedCopy(m);
+			const TopoFacts inFacts = topoFacts(welded.positions, welded.triangles);
+			Params p;
+			std::string error;
+			ASSERT_TRUE(parseLevelsBy(by, p, error)) << error;
+			p.threads = 1;
+			const Result r = buildLevels(m.view(), p);
+			ASSERT_TRUE(r.ok) << r.error;
+			ASSERT_EQ(r.levels.size(), size_t(p.maxLevel));
+			for (const LevelMesh &lm : r.levels) {
+				expectInvariants(m, inFacts, lm);
+				EXPECT_LE(lm.stats.maxNormalDevDeg, p.normalLimit * lm.stats.boundDeg + 1e-9);
+			}
+			expectMonotone(r);
+			p.threads = 3;
+			const Result three = buildLevels(m.view(), p);
+			ASSERT_TRUE(three.ok);
+			for (size_t i = 0; i < r.levels.size(); ++i) {
+				EXPECT_EQ(r.levels[i].triangles, three.levels[i].triangles) << i;
+				EXPECT_EQ(r.levels[i].stats.tolerance, three.levels[i].stats.tolerance) << i;
+			}
+		}
+	}
+}
+
 TEST(Levels, the_output_does_not_depend_on_the_number_of_threads)
 {
 	for (const char *name : {"fandisk.off", "bunny00.off"}) {

@@ -126,3 +126,106 @@ TEST(Quality, the_default_tolerance_grows_by_level_and_coarser_levels_stay_coars
 		EXPECT_LT(r.levels.back().stats.faces, m.triangles.size() / 3 * 3 / 4);
 	}
 }
+
+// Levels by target (issue #17, item 3): a face budget per level is met (<= budget) on real
+// models, with as many faces as fit; an unreachable budget is reported, never hidden.
+TEST(Quality, levels_by_face_budget_meet_their_budget_on_real_models)
+{
+	// budgets within each level's reach (the cow's curved surface: its coarsest level, bound
+	// 127 deg, merges down to about 57 % of its faces, then the normal limit stops it)
+	struct Case {
+		const char *name, *levelsBy;
+		int percent[3]; // by level
+	};
+	for (const Case &c : {Case{"fandisk.off", "faces:10%,50%,25%", {10, 25, 50}},
+	                      Case{"cow.off", "faces:90%, 60%,70%", {60, 70, 90}}}) {
+		SCOPED_TRACE(c.name);
+		const FlatMesh m = loadOff(c.name);
+		const size_t nF = m.triangles.size() / 3;
+		Params prm;
+		std::string error;
+		ASSERT_TRUE(parseLevelsBy(c.levelsBy, prm, error)) << error;
+		ASSERT_EQ(prm.maxLevel, 3);
+		const Result r = buildLevels(m.view(), prm);
+		ASSERT_TRUE(r.ok) << r.error;
+		ASSERT_EQ(r.levels.size(), 3u);
+		size_t want[3]; // by level
+		for (int i = 0; i < 3; ++i)
+			want[i] = nF * size_t(c.percent[i]) / 100;
+		for (const LevelMesh &lm : r.levels) {
+			const LevelStats &s = lm.stats;
+			SCOPED_TRACE("LOD" + std::to_string(s.level));
+			EXPECT_EQ(s.targetFaces, want[s.level]);
+			EXPECT_EQ(s.targetDistance, -1);
+			EXPECT_EQ(lm.triangles.size() / 3, s.faces);
+			EXPECT_EQ(s.targetReached, s.faces <= s.targetFaces);
+			EXPECT_TRUE(s.targetReached) << s.faces << " faces for a budget of " << s.targetFaces;
+			EXPECT_LE(s.faces, s.targetFaces);
+			// as many faces as fit: within 15 % below the budget (the search stops at 0.5 %;
+			// the tolerance's steps move the count in jumps)
+			EXPECT_GT(s.faces, s.targetFaces * 85 / 100);
+			EXPECT_GT(s.tolerance, 0);
+			EXPECT_GE(s.trials, 2);
+			EXPECT_LE(s.trials, 11);
+			if (!s.reusedFiner)
+				EXPECT_LE(s.maxDistance, s.tolerance * bboxDiagonal(m.view()) * (1 + 1e-6));
+		}
+		// budgets out of reach (at most 8 faces at every level): kept as close as they get,
+		// reported not reached, after one build (at the top tolerance)
+		Params tight;
+		ASSERT_TRUE(parseLevelsBy("faces:1,2,3,4,5,6,7,8", tight, error)) << error;
+		const Result t = buildLevels(m.view(), tight);
+		ASSERT_TRUE(t.ok) << t.error;
+		EXPECT_FALSE(t.levels.front().stats.targetReached);
+		EXPECT_GT(t.levels.front().stats.faces, 8u);
+		for (const LevelMesh &lm : t.levels) {
+			EXPECT_FALSE(lm.stats.targetReached);
+			EXPECT_GT(lm.stats.faces, lm.stats.targetFaces);
+			EXPECT_EQ(lm.stats.trials, 1);
+		}
+	}
+}
+
+TEST(Quality, levels_by_error_bound_each_levels_measured_distance)
+{
+	for (const char *name : {"fandisk.off", "cow.off"}) {
+		SCOPED_TRACE(name);
+		const FlatMesh m = loadOff(name);
+		const double diag = bboxDiagonal(m.view());
+		Params prm;
+		std::string error;
+		ASSERT_TRUE(parseLevelsBy("error:0.2%,0.01%,0.05%", prm, error)) << error;
+		ASSERT_EQ(prm.maxLevel, 3);
+		const Result r = buildLevels(m.view(), prm);
+		ASSERT_TRUE(r.ok) << r.error;
+		const double want[3] = {0.002, 0.0005, 0.0001}; // by level
+		size_t finer = m.triangles.size() / 3;
+		for (const LevelMesh &lm : r.levels) {
+			const LevelStats &s = lm.stats;
+			SCOPED_TRACE("LOD" + std::to_string(s.level));
+			EXPECT_DOUBLE_EQ(s.targetDistance, want[s.level]);
+			EXPECT_DOUBLE_EQ(s.tolerance, want[s.level]);
+			EXPECT_EQ(s.targetFaces, 0u);
+			EXPECT_GE(s.maxDistance, 0);
+			EXPECT_LE(s.maxDistance, want[s.level] * diag * (1 + 1e-6));
+			EXPECT_TRUE(s.targetReached);
+			EXPECT_EQ(verticesBeyond(m, lm, want[s.level] * diag * (1 + 1e-6)), 0u);
+			EXPECT_LE(s.faces, finer);
+			finer = s.faces;
+		}
+		// a list that is what maxDistance and distanceGrowth give: the same levels, exactly
+		Params listed;
+		listed.maxLevel = 2;
+		listed.levelDistances = {0.001, 0.0005};
+		Params grown;
+		grown.maxLevel = 2;
+		grown.maxDistance = 0.0005;
+		grown.distanceGrowth = 2;
+		const Result a = buildLevels(m.view(), listed), b = buildLevels(m.view(), grown);
+		ASSERT_TRUE(a.ok && b.ok);
+		for (size_t i = 0; i < 2; ++i) {
+			EXPECT_EQ(a.levels[i].triangles, b.levels[i].triangles);
+			EXPECT_EQ(a.levels[i].positions, b.levels[i].positions);
+		}
+	}
+}

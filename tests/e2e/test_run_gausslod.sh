@@ -87,6 +87,26 @@ preset() { # NAME LEVEL... (finest first)
 preset paper 4 3 2 1 0
 preset cad 5 4
 preset game 2 1 0
+preset budget 3 2 1 0
+# levels by face budget (levelsBy faces:50%,25%,10%,5%): each level within its budget of the
+# 12,946 input faces, and the runner says the target and that it was reached
+budget=(6473 3236 1294 647) # LOD3..LOD0
+for level in 3 2 1 0; do
+  want=${budget[$((3 - level))]}
+  faces=$(ply_counts "$work/preset_budget/fandisk_LOD$level.ply" 2>/dev/null | cut -d' ' -f1)
+  [ -n "$faces" ] && [ "$faces" -le "$want" ] && [ "$faces" -gt $((want * 8 / 10)) ] &&
+    pass "preset budget LOD$level: $faces faces for a budget of $want" ||
+    fail "preset budget LOD$level: '$faces' faces for a budget of $want"
+  grep -A1 "^LOD$level " "$work/preset_budget.log" |
+    grep -q "target $(LC_ALL=C printf "%'d" "$want" 2>/dev/null || echo "$want") faces reached, tolerance" ||
+    grep -A1 "^LOD$level " "$work/preset_budget.log" | grep -Eq "target [0-9,]+ faces reached, tolerance" ||
+    fail "preset budget LOD$level: no 'target ... reached' line"
+done
+# a script written before levelsBy existed (no such parameter): the angle levels, as before
+grep -v 'name="levelsBy"' "$(dirname "$runner")/gausslod_default.mlx" >"$work/old.mlx"
+run old_script "$data/fandisk.off" "$work/old_script" "$work/old.mlx"
+if [ $rc -eq 0 ]; then pass "script without levelsBy: exit 0"; else fail "script without levelsBy: exit $rc"; fi
+check_levels "$work/old_script" fandisk "$work/old_script.log" 4 3 2 1 0
 
 # 4. failures: non-zero exit and a message saying what is wrong
 expect_failure() { # NAME PATTERN
@@ -113,6 +133,11 @@ sed 's/name="maxLevel" value="[0-9]*"/name="maxLevel" value="9"/' \
     "$(dirname "$runner")/gausslod_default.mlx" >"$work/bad_level.mlx"
 run filter_error "$data/cow.off" "$work/filter_error" "$work/bad_level.mlx"
 expect_failure filter_error "GaussLOD failed: Number of levels (maxLevel) must be between 1 and 8"
+
+sed 's/name="levelsBy" value="[^"]*"/name="levelsBy" value="faces:50%,50%"/' \
+    "$(dirname "$runner")/gausslod_default.mlx" >"$work/bad_targets.mlx"
+run bad_targets "$data/cow.off" "$work/bad_targets" "$work/bad_targets.mlx"
+expect_failure bad_targets "GaussLOD failed: Levels by (levelsBy): the target 50% is given twice"
 
 if [ $failures -ne 0 ]; then echo "$failures check(s) failed"; exit 1; fi
 echo "all checks passed"

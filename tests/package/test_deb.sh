@@ -17,6 +17,7 @@ for f in ./usr/lib/x86_64-linux-gnu/meshlab/plugins/libfilter_gausslod.so \
          ./usr/lib/x86_64-linux-gnu/meshlab/plugins/libgausslod_io_obj.so ./usr/bin/gausslod \
          ./usr/share/gausslod/gausslod_default.mlx ./usr/share/gausslod/gausslod_cad.mlx \
          ./usr/share/gausslod/gausslod_paper.mlx ./usr/share/gausslod/gausslod_game.mlx \
+         ./usr/share/gausslod/gausslod_budget.mlx \
          ./usr/share/gausslod/run_gausslod.sh; do
   grep -qx "$f" "$work/files.txt" || { echo "FAIL: $f not in the package"; failures=$((failures + 1)); }
 done

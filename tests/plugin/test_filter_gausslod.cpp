@@ -18,7 +18,7 @@ TEST_F(GaussLodPlugin, declares_itself_as_a_single_mesh_remeshing_filter)
 	loadOffLayer(md, dataFile("cow.off"));
 	const RichParameterList par = defaults(md);
 	const QStringList expected = {
-	    "maxLevel",     "outputLevels",  "featureAngle",     "straightenTol",    "mergeDist",
+	    "maxLevel",     "levelsBy",      "outputLevels",  "featureAngle",     "straightenTol",    "mergeDist",
 	    "maxDistance",  "distanceGrowth", "normalLimit",   "acrossCells",      "weldVertices",     "weldDistance",
 	    "keepMaterials", "keepSeams",    "maxTexError",      "selectedOnly",     "colourSuperfaces",
 	    "overwriteColours", "fauxEdges"};
@@ -27,6 +27,7 @@ TEST_F(GaussLodPlugin, declares_itself_as_a_single_mesh_remeshing_filter)
 		EXPECT_TRUE(par.hasParameter(name)) << qUtf8Printable(name);
 	EXPECT_EQ(par.getInt("maxLevel"), 5);
 	EXPECT_EQ(par.getString("outputLevels"), "all");
+	EXPECT_EQ(par.getString("levelsBy"), "angle");
 	EXPECT_FLOAT_EQ(par.getFloat("featureAngle"), 30.0f);
 	const float diag = md.mm()->cm.bbox.Diag();
 	EXPECT_NEAR(par.getAbsPerc("straightenTol"), 0.005f * diag, 1e-6f * diag);
@@ -170,6 +171,12 @@ TEST_F(GaussLodPlugin, out_of_range_parameters_are_rejected)
 	    {"outputLevels", std::make_shared<StringValue>("5")},
 	    {"outputLevels", std::make_shared<StringValue>("1,x")},
 	    {"outputLevels", std::make_shared<StringValue>("")},
+	    {"levelsBy", std::make_shared<StringValue>("faces:")},
+	    {"levelsBy", std::make_shared<StringValue>("faces:150%")},
+	    {"levelsBy", std::make_shared<StringValue>("faces:50%,50%")},
+	    {"levelsBy", std::make_shared<StringValue>("faces:1,2,3,4,5,6,7,8,9")},
+	    {"levelsBy", std::make_shared<StringValue>("error:abc")},
+	    {"levelsBy", std::make_shared<StringValue>("triangles:50%")},
 	    {"featureAngle", std::make_shared<FloatValue>(-1.0f)},
 	    {"featureAngle", std::make_shared<FloatValue>(181.0f)},
 	    {"straightenTol", std::make_shared<AbsPercValue>(-0.1f)},
@@ -294,6 +301,79 @@ TEST_F(GaussLodPlugin, default_script_runs_in_process_like_meshlabserver)
 	}
 }
 
+// Levels by target (issue #17): one layer per face budget, each within it, the log saying the
+// target, whether it was reached and the tolerance used; layer names as in angle mode.
+TEST_F(GaussLodPlugin, levels_by_face_budget_make_one_layer_per_budget_within_it)
+{
+	MeshDocument md;
+	MeshModel *input = loadOffLayer(md, dataFile("fandisk.off"));
+	const LayerSnapshot before(*input);
+	RichParameterList par = defaults(md);
+	par.setValue("levelsBy", StringValue("faces:10%, 50%,25%"));
+	ASSERT_TRUE(apply(md, par)) << qUtf8Printable(filter->errorMsg());
+	EXPECT_TRUE(LayerSnapshot(*input) == before);
+	ASSERT_EQ(md.size(), 1 + 3); // (maxLevel 5 is replaced by the 3 targets)
+	const int fn = input->cm.fn;
+	const QStringList lines = logLines();
+	for (int i = 1; i <= 3; ++i) {
+		const MeshModel *lm = md.meshList.at(i);
+		ParsedLabel label;
+		ASSERT_TRUE(parseLabel(lm->label(), label)) << qUtf8Printable(lm->label());
+		const int level = 3 - i;
+		const int budget = fn * (level == 2 ? 50 : level == 1 ? 25 : 10) / 100;
+		EXPECT_EQ(label.level, level);
+		EXPECT_EQ(label.faces, lm->cm.fn);
+		EXPECT_LE(lm->cm.fn, budget) << "LOD" << level;
+		EXPECT_GT(lm->cm.fn, budget * 85 / 100) << "LOD" << level;
+		const QRegularExpression line(
+		    QString("^LOD%1 .*; target %2 faces reached, distance tolerance [0-9.e+-]+ % of the "
+		            "diagonal \\([0-9]+ builds?\\)$")
+		        .arg(level)
+		        .arg(QLocale(QLocale::English).toString(budget)));
+		EXPECT_EQ(lines.filter(line).size(), 1) << qUtf8Printable(lines.join("\n"));
+	}
+	EXPECT_EQ(lines.filter("Levels by faces:50%,25%,10%: 3 levels").size(), 1)
+	    << qUtf8Printable(lines.join("\n"));
+}
+
+// A budget out of reach (the cow's curved surface keeps more than half its faces at the coarsest
+// level's bound): the layer is as close as it gets and the log says so.
+TEST_F(GaussLodPlugin, an_out_of_reach_budget_is_reported_in_the_log)
+{
+	MeshDocument md;
+	loadOffLayer(md, dataFile("cow.off"));
+	RichParameterList par = defaults(md);
+	par.setValue("levelsBy", StringValue("faces:10%"));
+	ASSERT_TRUE(apply(md, par)) << qUtf8Printable(filter->errorMsg());
+	ASSERT_EQ(md.size(), 2);
+	EXPECT_GT(md.meshList.at(1)->cm.fn, 580);
+	const QStringList lines = logLines();
+	EXPECT_EQ(lines.filter(QRegularExpression("^LOD0 .*; target 580 faces NOT reached \\(the "
+	                                          "level's normal bound stops merging before it\\), "
+	                                          "distance tolerance 100 % of the diagonal \\(1 build\\)$"))
+	              .size(),
+	          1)
+	    << qUtf8Printable(lines.join("\n"));
+}
+
+// A script written before "Levels by" existed (no such parameter): levels by angle, as before.
+TEST_F(GaussLodPlugin, a_script_without_levels_by_gives_the_angle_levels)
+{
+	MeshDocument md, md2;
+	loadOffLayer(md, dataFile("fandisk.off"));
+	loadOffLayer(md2, dataFile("fandisk.off"));
+	RichParameterList old;
+	for (const RichParameter &rp : defaults(md))
+		if (rp.name() != "levelsBy")
+			old.addParam(rp);
+	ASSERT_FALSE(old.hasParameter("levelsBy"));
+	ASSERT_TRUE(apply(md, old)) << qUtf8Printable(filter->errorMsg());
+	ASSERT_TRUE(apply(md2, defaults(md2))) << qUtf8Printable(filter->errorMsg());
+	ASSERT_EQ(md.size(), 6);
+	ASSERT_EQ(md2.size(), 6);
+	for (int i = 1; i <= 5; ++i)
+		EXPECT_EQ(md.meshList.at(i)->label(), md2.meshList.at(i)->label());
+}
 
 int main(int argc, char **argv)
 {

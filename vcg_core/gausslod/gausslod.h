@@ -69,6 +69,20 @@ struct Params {
 	/// Number of levels (the paper's MaxLevel). Level i uses Gauss-sphere cells of 3^i x 3^i per
 	/// cube face; the finest level is maxLevel-1. Range 1..8.
 	int maxLevel = 5;
+	/// Beyond the paper, levels by target (parseLevelsBy() reads the text form "faces:50%,25%"):
+	/// per level (index = level, so maxLevel entries; the finest, maxLevel-1, has the largest),
+	/// the most output faces the level may have. Each level's distance tolerance (in place of
+	/// maxDistance and distanceGrowth) is then searched so that the level has as many faces as
+	/// the budget allows (the least error within it); the level's normal bound still holds, so a
+	/// budget below what merging within that bound reaches is kept as close as it gets and
+	/// reported as not reached (LevelStats::targetReached). Empty = levels by angle (the paper's).
+	std::vector<double> levelFaces;
+	/// levelFaces are fractions (0..1] of the input's face count (MeshView::faceCount), not counts.
+	bool levelFacesRelative = false;
+	/// Beyond the paper, levels by target ("error:0.01%,0.2%"): per level (index = level, so
+	/// maxLevel entries, strictly decreasing from level 0), the distance tolerance, fraction of
+	/// the diagonal, in place of maxDistance * distanceGrowth^k. Empty = those.
+	std::vector<double> levelDistances;
 	/// Bit i set = return level i (all levels are still computed, coarser ones need finer ones).
 	/// parseOutputLevels() reads the filter's text form ("all", "0,2").
 	uint32_t outputLevels = 0xffffffffu;
@@ -139,7 +153,8 @@ enum class ParamKind {
 	Real,             ///< a number in the parameter's own unit (degrees, a factor)
 	DiagonalFraction, ///< a fraction of the bounding-box diagonal (shown as a percentage)
 	Flag,             ///< true / false
-	LevelList         ///< Params::outputLevels: "all" or a comma list of level indices
+	LevelList,        ///< Params::outputLevels: "all" or a comma list of level indices
+	LevelTargets      ///< Params::levelFaces / levelDistances: parseLevelsBy()'s text
 };
 
 /// One parameter of Params, for front ends: the MeshLab filter builds its dialog from these, the
@@ -160,7 +175,8 @@ struct ParamSpec {
 const std::vector<ParamSpec> &paramSpecs();
 /// The spec called `name`, or nullptr.
 const ParamSpec *findParam(const std::string &name);
-/// A numeric or flag parameter's value as a double (false/true = 0/1); NaN for LevelList.
+/// A numeric or flag parameter's value as a double (false/true = 0/1); NaN for LevelList and
+/// LevelTargets.
 double getParam(const Params &params, const ParamSpec &spec);
 /// Sets a numeric or flag parameter (rounded toward zero for Integer, != 0 for Flag); no check.
 void setParam(Params &params, const ParamSpec &spec, double value);
@@ -169,6 +185,18 @@ std::string validateParams(const Params &params);
 /// "all" (any case) or a comma-separated list of level indices 0..maxLevel-1 (spaces allowed
 /// around them) into a Params::outputLevels mask. False with `error` set otherwise.
 bool parseOutputLevels(const std::string &text, int maxLevel, uint32_t &mask, std::string &error);
+
+/// Levels by target, the text form of the filter's "Levels by" and the tool's --levels-by:
+///  "" or "angle": the paper's levels (levelFaces and levelDistances cleared, maxLevel kept);
+///  "faces:50%,25%,10%" (percentages of the input's faces) or "faces:20000,5000" (counts);
+///  "error:0.01%,0.05%,0.2%" (distance tolerances, percentages of the bounding-box diagonal;
+///  the % sign may be left out). The number of targets (1..8) becomes maxLevel; they may come in
+///  any order (the finest level gets the most faces or the smallest error). False with `error`
+///  set (params unchanged) on an empty, non-numeric, non-positive, duplicate or too long list,
+///  a face percentage above 100 or an error above 100 %.
+bool parseLevelsBy(const std::string &text, Params &params, std::string &error);
+/// The text form of params' targets ("angle" if none), as parseLevelsBy reads it.
+std::string levelsByText(const Params &params);
 
 /// The bounding-box diagonal of the (finite) vertex positions: what the distances are
 /// fractions of.
@@ -209,13 +237,22 @@ struct LevelStats {
 	                             ///< the Hausdorff distance; -1 = not measured (tolerance off)
 	double maxTexError = -1;     ///< with MeshView::cornerUV: the largest texture-coordinate
 	                             ///< error measured at removed vertices (UV units); -1 = none
-	double seconds = 0;          ///< wall time spent on this level, the sum of the stages:
+	double seconds = 0;          ///< wall time spent on this level (every trial), at least the
+	                             ///< sum of the stages of the build it kept:
 	double secondsPartition = 0; ///<  merging the finer level's superfaces (2.5; finest level:
 	                             ///<  adjacency, vertex classes and the finest buckets, 2.1-2.2.1)
 	double secondsBorders = 0;   ///<  rings, straightening, vicinity merging (2.2.2-2.3)
 	double secondsTriangulation = 0; ///< re-triangulation and deviation measurement (2.4)
 	double secondsChecks = 0;    ///<  whole-level validity check and fallback bookkeeping
 	int rounds = 0;              ///< build rounds (1 + rounds caused by fallbacks)
+	/// Levels by target (Params::levelFaces / levelDistances); in angle mode targetFaces = 0,
+	/// targetDistance = -1 and targetReached = true.
+	size_t targetFaces = 0;      ///< faces mode: the level's face budget (percentages resolved)
+	double targetDistance = -1;  ///< error mode: the level's tolerance, fraction of the diagonal
+	bool targetReached = true;   ///< faces <= targetFaces; maxDistance <= targetDistance
+	double tolerance = 0;        ///< the distance tolerance the level was built with, fraction of
+	                             ///< the diagonal (0 = none); faces mode: the one the search chose
+	int trials = 1;              ///< builds of the level (faces mode: the tolerance search's)
 	bool reusedFiner = false;    ///< the merged partition gave more faces than the next finer
 	                             ///< level: this level is that level's mesh (face counts stay
 	                             ///< monotone; the finer level keeps this level's bound too)

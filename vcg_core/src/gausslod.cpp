@@ -151,10 +151,10 @@ bool prepare(const MeshView &input, const Params &params, Result &res, MeshView 
 // A coarser level that came out with more faces than the finer one (2.5 promises monotone face
 // counts) is the finer level's mesh: its partition, with the cells of this level.
 void keepFinerLevel(const MeshView &mesh, int level, std::vector<detail::Partition> &parts,
-                    LevelMesh &finer, LevelMesh &lm)
+                    const detail::Partition &finerPart, LevelMesh &finer, LevelMesh &lm)
 {
 	detail::Partition &p = parts[size_t(level)];
-	p = parts[size_t(level) + 1];
+	p = finerPart;
 	p.level = level;
 	// (its origins still point to the finer level's parts: no copy of them needed)
 	p.partLabel.clear(), p.partCell.clear(), p.partOrigin.clear();
@@ -176,6 +176,102 @@ void keepFinerLevel(const MeshView &mesh, int level, std::vector<detail::Partiti
 	lm.stats.boundDeg = levelBoundDeg(level);
 	lm.stats.fallbacks = 0;
 	lm.stats.reusedFiner = true;
+}
+
+// The distance tolerance of `level`, fraction of the diagonal (0 = none), as levelLimits reads it.
+double levelTolerance(const Params &p, int level)
+{
+	return p.levelDistances.empty()
+	           ? p.maxDistance * std::pow(p.distanceGrowth, p.maxLevel - 1 - level)
+	           : p.levelDistances[size_t(level)];
+}
+
+// Levels by face count: the level's face budget (percentages of the input's faces, rounded down).
+size_t faceTarget(const Params &p, int level, size_t inputFaces)
+{
+	const double t = p.levelFaces[size_t(level)];
+	return p.levelFacesRelative ? size_t(std::floor(t * double(inputFaces) * (1 + 1e-12)))
+	                            : size_t(t);
+}
+
+// The tolerance search of the faces mode, on the tolerance's logarithm (fractions of the
+// diagonal): between these bounds (at the top the distance check refuses nothing: only the
+// normal bound limits merging), at most this many halvings after the build at the top, ended once
+// a level is within 1 % below its budget or the bracket is narrower than kSearchWidth (a factor
+// 1.05: measured on fandisk, the face count is not monotone at that scale, it moves a few percent
+// up and down between close tolerances, so a narrower bracket buys nothing).
+constexpr double kSearchLogLo = -6, kSearchLogHi = 0, kSearchWidth = 0.02;
+constexpr int kSearchSteps = 10;
+
+// Levels by face count: builds `level` with the distance tolerance that gives it the most faces
+// within `target` (the least error within the budget), into lm, and its partition into
+// parts[level]: bisection of the tolerance's logarithm (faces fall as the tolerance grows, though
+// not strictly: see kSearchWidth). Every trial starts from the same merged partition (the
+// geometry's fallbacks split it). If even the top tolerance gives more faces than the target,
+// that build is kept (the target is not reached). Deterministic: the trials and the choice
+// depend on face counts only.
+void buildToFaceTarget(const detail::Topology &topo, const Params &params,
+                       std::vector<detail::Partition> &parts, int level, size_t target,
+                       size_t faceLimit, const detail::SplitCost *cost, LevelMesh &lm,
+                       detail::Partition &merged)
+{
+	using namespace detail;
+	Params trial = params;
+	trial.levelFaces.clear();
+	trial.levelDistances.assign(size_t(params.maxLevel), 1.0); // (only this level's is read)
+	Partition &p = parts[size_t(level)];
+	Partition &start = merged;
+	start = p;
+	Partition bestPart;
+	size_t bestFaces = 0;
+	double bestTol = 0;
+	int trials = 0;
+	// builds with tolerance 10^logTol; the level's faces (above the finer level's count the
+	// level will be the finer one); keeps the build if it fits the budget with the most faces
+	auto run = [&](double logTol) {
+		const double tol = std::pow(10.0, logTol);
+		trial.levelDistances[size_t(level)] = tol;
+		if (trials++ > 0)
+			p = start;
+		LevelMesh out;
+		buildLevelGeometry(topo, trial, parts, p, out, faceLimit, cost);
+		const size_t faces = std::min(out.stats.faces, faceLimit);
+		// (a fitting trial always has the smallest tolerance of the fitting ones so far)
+		if (trials == 1 || (faces <= target && faces >= bestFaces)) {
+			lm = std::move(out);
+			bestPart = p;
+			bestFaces = faces;
+			bestTol = tol;
+		}
+		return faces;
+	};
+	double hi = kSearchLogHi, lo = kSearchLogLo; // faces(hi) <= target < faces(lo)
+	const bool reached = run(hi) <= target;
+	for (int step = 0; reached && step < kSearchSteps && target - bestFaces > target / 100 &&
+	                   hi - lo > kSearchWidth;
+	     ++step) {
+		const double mid = 0.5 * (lo + hi);
+		(run(mid) <= target ? hi : lo) = mid;
+	}
+	p = std::move(bestPart);
+	lm.stats.tolerance = bestTol;
+	lm.stats.trials = trials;
+}
+
+// What a level was asked for (levels by target) and whether it got it.
+void setTargetStats(const Params &p, int level, size_t target, double diagonal, LevelStats &st)
+{
+	st.targetFaces = 0;
+	st.targetDistance = -1;
+	st.targetReached = true;
+	if (!p.levelFaces.empty()) {
+		st.targetFaces = target;
+		st.targetReached = st.faces <= target;
+	} else if (!p.levelDistances.empty()) {
+		st.targetDistance = p.levelDistances[size_t(level)];
+		// (the measured distances are floats)
+		st.targetReached = st.maxDistance <= st.targetDistance * diagonal * (1 + 1e-6);
+	}
 }
 
 template <class Fn>
@@ -249,6 +345,10 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 		res.levels.reserve(size_t(params.maxLevel));
 		LevelMesh finer;     // the previous (finer) level
 		SplitCost finerCost; // (with the distance tolerance, see triangleShare)
+		const bool byFaces = !params.levelFaces.empty();
+		// faces mode: parts[level] is the level's merged partition before its fallbacks (what
+		// the coarser levels merge), levelPart the one its mesh has (see DESIGN.md)
+		Partition merged, levelPart;
 		for (int level = finest; level >= 0; --level) {
 			const auto tl = std::chrono::steady_clock::now();
 			if (!report(0.05 + 0.95 * double(finest - level) / params.maxLevel, "building level"))
@@ -260,16 +360,35 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 					mergeAcrossCells(topo, acrossLimit(level), parts[size_t(level)]);
 			}
 			LevelMesh lm;
-			lm.stats.secondsPartition = since(tl) + (level == finest ? setup : 0.0);
-			const bool share = level < finest && params.maxDistance > 0;
+			const double partitionSeconds = since(tl) + (level == finest ? setup : 0.0);
+			const double tolerance = byFaces ? 1.0 : levelTolerance(params, level);
+			const bool share = level < finest && tolerance > 0;
 			if (share)
-				triangleShare(parts[size_t(level) + 1], finer, finerCost);
-			buildLevelGeometry(topo, params, parts, parts[size_t(level)], lm,
-			                   level < finest ? finer.stats.faces : SIZE_MAX,
-			                   share ? &finerCost : nullptr);
+				triangleShare(byFaces ? levelPart : parts[size_t(level) + 1], finer, finerCost);
+			const size_t faceLimit = level < finest ? finer.stats.faces : SIZE_MAX;
+			const size_t target = byFaces ? faceTarget(params, level, mesh.faceCount) : 0;
+			if (byFaces) {
+				buildToFaceTarget(topo, params, parts, level, target, faceLimit,
+				                  share ? &finerCost : nullptr, lm, merged);
+			} else {
+				buildLevelGeometry(topo, params, parts, parts[size_t(level)], lm, faceLimit,
+				                   share ? &finerCost : nullptr);
+				lm.stats.tolerance = tolerance;
+			}
+			const double chosen = lm.stats.tolerance;
+			const int trials = lm.stats.trials;
+			lm.stats.secondsPartition = partitionSeconds;
 			if (level < finest && lm.stats.faces > finer.stats.faces)
-				keepFinerLevel(mesh, level, parts, finer, lm);
+				keepFinerLevel(mesh, level, parts, byFaces ? levelPart : parts[size_t(level) + 1],
+				               finer, lm);
+			if (byFaces) {
+				levelPart = std::move(parts[size_t(level)]);
+				parts[size_t(level)] = std::move(merged);
+			}
 			lm.stats.seconds = since(tl) + (level == finest ? setup : 0.0);
+			lm.stats.tolerance = chosen;
+			lm.stats.trials = trials;
+			setTargetStats(params, level, target, topo.diagonal, lm.stats);
 			lm.stats.input = res.input;
 			if (const size_t lost = uncoveredFaces(topo, lm))
 				return fail(res, ErrorKind::Internal,

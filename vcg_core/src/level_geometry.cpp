@@ -19,7 +19,9 @@ LevelLimits levelLimits(const Params &prm, double diagonal, int level, bool hasU
 	l.tolerance = std::max(prm.straightenTol * diagonal, l.exact);
 	l.mergeDistance = prm.mergeDist * diagonal;
 	l.maxDistance =
-	    prm.maxDistance * diagonal * std::pow(prm.distanceGrowth, prm.maxLevel - 1 - level);
+	    prm.levelDistances.empty()
+	        ? prm.maxDistance * diagonal * std::pow(prm.distanceGrowth, prm.maxLevel - 1 - level)
+	        : prm.levelDistances[size_t(level)] * diagonal; // (levels by target)
 	if (l.maxDistance > 0) {
 		l.tolerance = std::min(l.tolerance, std::max(l.maxDistance, l.exact));
 		l.mergeDistance = std::min(l.mergeDistance, 0.5 * l.maxDistance);

@@ -2,6 +2,7 @@
 // help are built from them), validation, and the output-level list. Defaults are Params{}'s.
 #include "engine.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
@@ -36,6 +37,20 @@ std::vector<Entry> makeEntries()
 	      "4 = 1.57 deg, ...",
 	      double(d.maxLevel), 1, kLevels, false, true},
 	     &Params::maxLevel},
+	    {{"levelsBy", K::LevelTargets, "Levels by",
+	      "what sets the levels: angle, faces:50%,25%,... (or counts) or error:0.01%,0.2%,...",
+	      "Beyond the paper: what sets the levels. \"angle\" (or empty, the default): the "
+	      "paper's levels, 'Number of levels' of them, each as coarse as its normal bound and "
+	      "the distance tolerance allow. \"faces:\" and a comma list of face budgets, as "
+	      "percentages of the input's faces (faces:50%,25%,10%) or counts (faces:20000,5000): "
+	      "one level per budget, each with as many faces as fit in it (its distance tolerance "
+	      "is searched). \"error:\" and a list of distance tolerances, percentages of the "
+	      "bounding-box diagonal (error:0.01%,0.05%,0.2%): one level per tolerance, in place of "
+	      "'Distance tolerance' and 'Distance growth'. The number of targets (up to 8) "
+	      "replaces 'Number of levels'; the finest level gets the most faces or the smallest "
+	      "error. Every level keeps its normal bound, so a budget may be out of reach: the "
+	      "log then says 'not reached'.",
+	      0, 0, 0, false, true}},
 	    {{"outputLevels", K::LevelList, "Output levels",
 	      "\"all\" or a comma list of levels to write, 0 = coarsest",
 	      "Which levels become layers: \"all\", or a comma-separated list of level indices, "
@@ -196,7 +211,169 @@ std::string trim(const std::string &s)
 	return s.substr(b, e - b);
 }
 
+bool isText(const ParamSpec &s)
+{
+	return s.kind == ParamKind::LevelList || s.kind == ParamKind::LevelTargets;
+}
+
+// Levels by target: one entry per level, in level order (finest = most faces, least error).
+std::string validateTargets(const Params &p)
+{
+	const char *name = "Levels by (levelsBy)";
+	if (!p.levelFaces.empty() && !p.levelDistances.empty())
+		return std::string(name) + ": give face targets (levelFaces) or error targets "
+		                           "(levelDistances), not both";
+	const bool faces = !p.levelFaces.empty();
+	const std::vector<double> &t = faces ? p.levelFaces : p.levelDistances;
+	if (t.empty())
+		return {};
+	if (t.size() != size_t(p.maxLevel))
+		return std::string(name) + ": " + std::to_string(t.size()) + " targets for " +
+		       std::to_string(p.maxLevel) + " levels (one per level)";
+	for (size_t i = 0; i < t.size(); ++i) {
+		const double v = t[i];
+		const bool in = faces ? p.levelFacesRelative ? v > 0 && v <= 1
+		                                             : v >= 1 && v < 4e18 && v == std::floor(v)
+		                      : v > 0 && v <= 1;
+		if (!std::isfinite(v) || !in)
+			return std::string(name) + ": target " +
+			       number(faces && p.levelFacesRelative ? 100 * v
+			              : faces                       ? v
+			                                            : 100 * v) +
+			       (faces ? p.levelFacesRelative ? " %" : " faces" : " %") + " of level " +
+			       std::to_string(i) + " must be " +
+			       (faces ? p.levelFacesRelative ? "above 0 and at most 100 % of the input's faces"
+			                                     : "a whole number of faces, at least 1"
+			              : "above 0 and at most 100 % of the diagonal");
+		if (i > 0 && (faces ? !(v > t[i - 1]) : !(v < t[i - 1])))
+			return std::string(name) + ": the targets must " +
+			       (faces ? "grow from level 0 (fewest faces) to the finest level"
+			              : "shrink from level 0 (largest error) to the finest level") +
+			       ", each different";
+	}
+	return {};
+}
+
+// One target of a "faces:" or "error:" list: a positive number, '%' after it or not.
+bool parseTarget(const std::string &item, double &value, bool &percent)
+{
+	std::string t = trim(item);
+	percent = !t.empty() && t.back() == '%';
+	if (percent)
+		t = trim(t.substr(0, t.size() - 1));
+	char *end = nullptr;
+	value = std::strtod(t.c_str(), &end);
+	return !t.empty() && end != nullptr && *end == 0 && std::isfinite(value);
+}
+
 } // namespace
+
+bool parseLevelsBy(const std::string &text, Params &params, std::string &error)
+{
+	const std::string name = "Levels by (levelsBy): ";
+	const std::string all = trim(text);
+	std::string mode = trim(all.substr(0, all.find(':')));
+	for (char &c : mode)
+		c = char(std::tolower(static_cast<unsigned char>(c)));
+	const bool hasList = all.find(':') != std::string::npos;
+	if (mode.empty() || (mode == "angle" && !hasList)) {
+		params.levelFaces.clear();
+		params.levelDistances.clear();
+		params.levelFacesRelative = false;
+		return true;
+	}
+	const bool faces = mode == "faces";
+	if ((!faces && mode != "error") || !hasList) {
+		error = name + "'" + all +
+		        "' is not a mode; write angle, faces:LIST (e.g. faces:50%,25%,10% or "
+		        "faces:20000,5000) or error:LIST (e.g. error:0.01%,0.05%,0.2%)";
+		return false;
+	}
+	const std::string list = all.substr(all.find(':') + 1);
+	if (trim(list).empty()) {
+		error = name + mode + ": needs a comma list of targets, e.g. " +
+		        (faces ? "faces:50%,25%,10%" : "error:0.01%,0.05%,0.2%");
+		return false;
+	}
+	std::vector<double> targets;
+	int percents = 0;
+	size_t from = 0;
+	for (;;) {
+		const size_t comma = list.find(',', from);
+		const std::string item = trim(list.substr(from, comma - from));
+		double v = 0;
+		bool percent = false;
+		if (!parseTarget(item, v, percent)) {
+			error =
+			    name + "'" + item + "' is not a number" +
+			    (faces ? " (a percentage like 50% or a face count)" : " (a percentage like 0.05%)");
+			return false;
+		}
+		if (!(v > 0)) {
+			error = name + "'" + item + "': targets must be above 0";
+			return false;
+		}
+		if (faces && percent && v > 100) {
+			error = name + "'" + item + "': a face target is at most 100% of the input's faces";
+			return false;
+		}
+		if (faces && !percent && v != std::floor(v)) {
+			error = name + "'" + item + "': a face count is a whole number (or write a percentage)";
+			return false;
+		}
+		if (!faces && v > 100) {
+			error = name + "'" + item + "': an error target is at most 100% of the diagonal";
+			return false;
+		}
+		percents += percent;
+		targets.push_back(faces && !percent ? v : v / 100.0);
+		if (comma == std::string::npos)
+			break;
+		from = comma + 1;
+	}
+	if (faces && percents != 0 && size_t(percents) != targets.size()) {
+		error = name + "give every face target as a percentage or every one as a count, not both";
+		return false;
+	}
+	if (targets.size() > size_t(kMaxCellLevel + 1)) {
+		error = name + std::to_string(targets.size()) + " targets; at most " +
+		        std::to_string(kMaxCellLevel + 1) + " (one level each)";
+		return false;
+	}
+	// level order: level 0 (coarsest) first, with the fewest faces / the largest error
+	std::sort(targets.begin(), targets.end());
+	if (!faces)
+		std::reverse(targets.begin(), targets.end());
+	for (size_t i = 1; i < targets.size(); ++i)
+		if (targets[i] == targets[i - 1]) {
+			error = name + "the target " +
+			        number(faces && percents == 0 ? targets[i] : 100 * targets[i]) +
+			        (faces && percents == 0 ? "" : "%") + " is given twice (one level per target)";
+			return false;
+		}
+	params.maxLevel = int(targets.size());
+	params.levelFacesRelative = faces && percents > 0;
+	(faces ? params.levelFaces : params.levelDistances) = targets;
+	(faces ? params.levelDistances : params.levelFaces).clear();
+	return true;
+}
+
+std::string levelsByText(const Params &p)
+{
+	const bool faces = !p.levelFaces.empty();
+	if (!faces && p.levelDistances.empty())
+		return "angle";
+	const std::vector<double> &t = faces ? p.levelFaces : p.levelDistances;
+	const bool percent = !faces || p.levelFacesRelative;
+	std::string s = faces ? "faces:" : "error:";
+	char buf[40];
+	for (size_t i = t.size(); i-- > 0;) { // finest first
+		std::snprintf(buf, sizeof buf, percent ? "%.10g%%" : "%.0f", percent ? 100 * t[i] : t[i]);
+		s += buf;
+		s += i ? "," : "";
+	}
+	return s;
+}
 
 const std::vector<ParamSpec> &paramSpecs()
 {
@@ -220,7 +397,7 @@ const ParamSpec *findParam(const std::string &name)
 double getParam(const Params &p, const ParamSpec &spec)
 {
 	const Entry *e = entryOf(spec);
-	if (e == nullptr || spec.kind == ParamKind::LevelList)
+	if (e == nullptr || isText(spec))
 		return NAN;
 	return e->integer ? double(p.*(e->integer)) : e->real ? p.*(e->real) : double(p.*(e->flag));
 }
@@ -228,7 +405,7 @@ double getParam(const Params &p, const ParamSpec &spec)
 void setParam(Params &p, const ParamSpec &spec, double value)
 {
 	const Entry *e = entryOf(spec);
-	if (e == nullptr || spec.kind == ParamKind::LevelList)
+	if (e == nullptr || isText(spec))
 		return;
 	if (e->integer)
 		p.*(e->integer) = std::isfinite(value) && std::fabs(value) < 2e9 ? int(value) : -1;
@@ -241,7 +418,7 @@ void setParam(Params &p, const ParamSpec &spec, double value)
 std::string validateParams(const Params &p)
 {
 	for (const ParamSpec &s : paramSpecs()) {
-		if (s.kind == ParamKind::LevelList || s.kind == ParamKind::Flag)
+		if (isText(s) || s.kind == ParamKind::Flag)
 			continue;
 		const double v = getParam(p, s);
 		const bool in =
@@ -252,7 +429,7 @@ std::string validateParams(const Params &p)
 			       number(percent ? 100 * v : v) + (percent ? " %)" : ")");
 		}
 	}
-	return {};
+	return validateTargets(p);
 }
 
 bool parseOutputLevels(const std::string &text, int maxLevel, uint32_t &mask, std::string &error)
