@@ -441,7 +441,7 @@ void LevelRounds::fillStats(size_t fallbacks, size_t vertices)
 	st.meanNormalDevDeg = area > 0 ? sum / area : 0;
 	st.unmeasuredFaces = unmeasured;
 	if (!measures_.gap.empty())
-		st.maxDistance = double(*std::max_element(measures_.gap.begin(), measures_.gap.end()));
+		st.distanceBound = double(*std::max_element(measures_.gap.begin(), measures_.gap.end()));
 	if (!measures_.tex.empty())
 		st.maxTexError = double(*std::max_element(measures_.tex.begin(), measures_.tex.end()));
 }
