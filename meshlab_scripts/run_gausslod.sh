@@ -191,9 +191,9 @@ level_stats() {
     's/.*bound ([0-9.]+) deg\): .* ([0-9,]+) superfaces, ([0-9,]+) fallbacks.*max ([0-9.]+) deg, mean ([0-9.]+) deg; ([0-9.]+) s.*/\1 \2 \3 \4 \5 \6/p' |
     tr -d ','
 }
-# the distance bound the tolerance check measured (% of the diagonal), if the tolerance is on
+# the level's proven distance bound (% of the diagonal), if the tolerance is on
 level_distance() {
-  grep -m1 "^LOG: [0-9]* LOD$1 (" "$log" | LC_ALL=C sed -E -n 's/.*; distance bound ([0-9.]+) % of the diagonal.*/\1/p'
+  grep -m1 "^LOG: [0-9]* LOD$1 (" "$log" | LC_ALL=C sed -E -n 's/.*; distance to the input at most ([0-9.]+) % of the diagonal.*/\1/p'
 }
 # levels by target: the level's target and whether it was reached
 level_target() {

@@ -166,13 +166,16 @@ QString baseLabel(const MeshModel &m)
 }
 
 /// "cow LOD2 (5,706 f, <=14.1 deg)"
-QString levelLabel(const QString &base, const gausslod::LevelStats &s)
+QString levelLabel(const QString &base, const gausslod::LevelStats &s, double diag)
 {
-	return QString("%1 LOD%2 (%3 f, <=%4 deg)")
-	    .arg(base)
-	    .arg(s.level)
-	    .arg(thousands(s.faces))
-	    .arg(QString::number(s.boundDeg, 'g', 3));
+	QString label = QString("%1 LOD%2 (%3 f, <=%4 deg")
+	                    .arg(base)
+	                    .arg(s.level)
+	                    .arg(thousands(s.faces))
+	                    .arg(QString::number(s.boundDeg, 'g', 3));
+	if (s.distanceBound >= 0 && diag > 0) // (the level's distance bound, % of the diagonal)
+		label += QString(", <=%1 %").arg(QString::number(100.0 * s.distanceBound / diag, 'g', 2));
+	return label + ")";
 }
 
 QString levelLogLine(const gausslod::LevelStats &s, double diag)
@@ -197,9 +200,10 @@ QString levelLogLine(const gausslod::LevelStats &s, double diag)
 	if (s.maxTexError >= 0)
 		line += QString("; texture coordinates moved at most %1 (UV units)")
 		            .arg(QString::number(s.maxTexError, 'g', 3));
-	if (s.maxDistance >= 0 && diag > 0)
-		line += QString("; distance bound %1 % of the diagonal (as the tolerance check measures it)")
-		            .arg(QString::number(100.0 * s.maxDistance / diag, 'f', 4));
+	if (s.distanceBound >= 0 && diag > 0)
+		line += QString("; distance to the input at most %1 % of the diagonal (%2, a proven bound)")
+		            .arg(QString::number(100.0 * s.distanceBound / diag, 'f', 4))
+		            .arg(QString::number(s.distanceBound, 'g', 4));
 	if (s.reusedFiner)
 		line += QString("; same mesh as LOD%1 (merging gave more faces)").arg(s.level + 1);
 	if (s.targetFaces > 0 || s.targetDistance >= 0)
@@ -427,7 +431,7 @@ bool FilterGaussLodPlugin::buildGaussSphereLods(MeshDocument &md, const RichPara
 	int coarsestLevel = 0;
 	try {
 		for (const gausslod::LevelMesh &level : result.levels) {
-			MeshModel *lm = md.addNewMesh("", levelLabel(base, level.stats), true);
+			MeshModel *lm = md.addNewMesh("", levelLabel(base, level.stats, diag), true);
 			added << lm;
 			int mask = superfaceColours || carried.faceColor ? MeshModel::MM_FACECOLOR : 0;
 			mask |= carried.vertColor ? MeshModel::MM_VERTCOLOR : 0;

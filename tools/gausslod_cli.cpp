@@ -460,8 +460,8 @@ std::string tableRow(const char *label, const gausslod::LevelStats &s, double di
                      bool texture)
 {
 	char buf[256], dist[64] = "";
-	if (distance && s.maxDistance >= 0 && diag > 0)
-		std::snprintf(dist, sizeof dist, "  %9.4f", 100.0 * s.maxDistance / diag);
+	if (distance && s.distanceBound >= 0 && diag > 0)
+		std::snprintf(dist, sizeof dist, "  %9.4f", 100.0 * s.distanceBound / diag);
 	else if (distance)
 		std::snprintf(dist, sizeof dist, "  %9s", "null");
 	if (texture) {
@@ -573,10 +573,11 @@ int main(int argc, char **argv)
 		}
 		const double diag = sofar.diagonal;
 		if (o.json) {
-			// the distance bound measured by the tolerance check, % of the diagonal
-			char dist[32] = "null";
-			if (s.maxDistance >= 0 && diag > 0)
-				std::snprintf(dist, sizeof dist, "%.4f", 100.0 * s.maxDistance / diag);
+			// the proven distance bound, % of the diagonal and mesh units
+			char dist[64] = "null,\"distance_bound\":null";
+			if (s.distanceBound >= 0 && diag > 0)
+				std::snprintf(dist, sizeof dist, "%.4f,\"distance_bound\":%.6g",
+				              100.0 * s.distanceBound / diag, s.distanceBound);
 			std::printf("{\"level\":%d,\"faces\":%zu,\"vertices\":%zu,\"superfaces\":%zu,"
 			            "\"fallbacks\":%zu,\"retriangulated\":%zu,\"bound_deg\":%.4f,"
 			            "\"max_dev_deg\":%.4f,\"mean_dev_deg\":%.4f,\"unmeasured_faces\":%zu,"

@@ -74,8 +74,16 @@ inline bool writeLevelPly(const LevelMesh &level, const std::string &file, bool 
 	const size_t nv = level.positions.size() / 3, nf = level.triangles.size() / 3;
 	detail::LeWriter w(f);
 	std::string header = "ply\nformat binary_little_endian 1.0\ncomment GaussLOD level " +
-	                     std::to_string(level.stats.level) + "\nelement vertex " +
-	                     std::to_string(nv) +
+	                     std::to_string(level.stats.level) + "\n";
+	if (level.stats.distanceBound >= 0) { // (for a renderer choosing the level by error)
+		char line[160];
+		std::snprintf(line, sizeof line,
+		              "comment GaussLOD distance_bound %.9g (upper bound on the distance to the "
+		              "input, mesh units)\n",
+		              level.stats.distanceBound);
+		header += line;
+	}
+	header += "element vertex " + std::to_string(nv) +
 	                     "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
 	                     std::to_string(nf) + "\nproperty list uchar int vertex_indices\n";
 	if (colourBySuperface)

@@ -410,10 +410,12 @@ TEST(DistanceTolerance, no_input_vertex_ends_farther_than_the_tolerance_from_any
 		const LevelMesh &lb = b.levels[i];
 		const double farthest = farthestInputVertex(m, lb);
 		EXPECT_LE(farthest, tol * (1 + 1e-9)) << "level " << lb.stats.level;
-		// the figure reported is what the check measured: a bound of the vertices' distance
-		EXPECT_LE(lb.stats.maxDistance, tol * (1 + 1e-6)) << "level " << lb.stats.level;
-		EXPECT_GE(lb.stats.maxDistance * (1 + 1e-6), farthest) << "level " << lb.stats.level;
-		EXPECT_EQ(a.levels[i].stats.maxDistance, -1.0); // not measured without the tolerance
+		// the figure reported is a bound of the level's distance, so of the vertices' too; the
+		// check keeps what it measures within the tolerance, the bound adds the pockets along
+		// straightened borders (at most about the tolerance again)
+		EXPECT_GE(lb.stats.distanceBound, farthest) << "level " << lb.stats.level;
+		EXPECT_LE(lb.stats.distanceBound, 3 * tol) << "level " << lb.stats.level;
+		EXPECT_EQ(a.levels[i].stats.distanceBound, -1.0); // not computed without the tolerance
 		EXPECT_GE(lb.stats.faces, a.levels[i].stats.faces);
 		const TopoFacts facts = topoFacts(lb.positions, lb.triangles);
 		EXPECT_EQ(facts.boundaryLoops, 1u);

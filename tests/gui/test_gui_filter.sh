@@ -173,7 +173,8 @@ for i in "${!levels[@]}"; do
   level=${levels[$i]} label=${labels[$i]} file=$out/saved/layer$((i + 1)).ply
   faces=$(ply_faces "$file")
   echo "layer $((i + 1)): '$label', saved with $faces faces"
-  re="^cow LOD$level \\(([0-9,]+) f, <=$(bound "$level" | sed 's/\./\\./') deg\\)\$"
+  # (the default distance tolerance is on: the label ends with the level's distance bound)
+  re="^cow LOD$level \\(([0-9,]+) f, <=$(bound "$level" | sed 's/\./\\./') deg, <=[0-9.e-]+ %\\)\$"
   check '[[ $label =~ $re ]]' "layer $((i + 1)) is LOD$level: '$label'"
   check '[ "${BASH_REMATCH[1]//,/}" = "$faces" ]' "LOD$level label face count = saved faces ($faces)"
   xml_label=$(printf '%s' "$label" | sed 's/</\&lt;/g')

@@ -133,12 +133,16 @@ struct ParsedLabel {
 	int level = -1;
 	long faces = -1;
 	QString bound;
+	double distancePct = -1; ///< the distance bound in the label (% of the diagonal), -1 = none
 };
 
-/// "cow LOD2 (5,706 f, <=14.1 deg)"
+/// "cow LOD2 (5,706 f, <=14.1 deg)", with the distance tolerance "cow LOD2 (5,446 f, <=14.1 deg,
+/// <=0.15 %)"
 bool parseLabel(const QString &label, ParsedLabel &out)
 {
-	static const QRegularExpression re(R"(^(.+) LOD(\d) \(([\d,]+) f, <=([\d.]+) deg\)$)");
+	// (with the distance tolerance, the label ends with the level's distance bound)
+	static const QRegularExpression re(
+	    R"(^(.+) LOD(\d) \(([\d,]+) f, <=([\d.]+) deg(?:, <=([\d.e-]+) %)?\)$)");
 	const QRegularExpressionMatch m = re.match(label);
 	if (!m.hasMatch())
 		return false;
@@ -146,6 +150,7 @@ bool parseLabel(const QString &label, ParsedLabel &out)
 	out.level = m.captured(2).toInt();
 	out.faces = m.captured(3).remove(',').toLong();
 	out.bound = m.captured(4);
+	out.distancePct = m.captured(5).isEmpty() ? -1.0 : m.captured(5).toDouble();
 	return true;
 }
 

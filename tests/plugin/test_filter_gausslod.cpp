@@ -68,6 +68,7 @@ TEST_F(GaussLodPlugin, cow_with_defaults_gets_one_new_layer_per_level_and_stays_
 		EXPECT_EQ(label.level, level);
 		EXPECT_EQ(label.faces, lm->cm.fn) << qUtf8Printable(lm->label());
 		EXPECT_EQ(label.bound, paperBound(level));
+		EXPECT_GT(label.distancePct, 0.0) << "the default tolerance gives a distance bound";
 		EXPECT_GT(lm->cm.fn, 0);
 		EXPECT_LE(lm->cm.fn, finerFaces) << "LOD" << level << " has more faces than the finer one";
 		EXPECT_LE(lm->cm.vn, input->cm.vn);
@@ -249,16 +250,18 @@ TEST_F(GaussLodPlugin, a_distance_tolerance_keeps_more_faces_where_levels_would_
 		EXPECT_GE(bounded.meshList.at(i)->cm.fn, free.meshList.at(i)->cm.fn) << i;
 	// the coarsest level flattens the cow by ~2.5 % of its diagonal without the tolerance
 	EXPECT_GT(bounded.meshList.back()->cm.fn, free.meshList.back()->cm.fn);
-	// each level's log line gives the distance bound measured, within the tolerance (0.1 %)
+	// each level's log line gives its distance bound: the check keeps removed vertices within the
+	// tolerance (0.1 %), the bound adds the pockets along straightened borders (DESIGN 23)
 	const QStringList lines = logLines();
-	const QRegularExpression bound("^LOD[0-4] .*; distance bound ([0-9.]+) % of the diagonal");
+	const QRegularExpression bound(
+	    "^LOD[0-4] .*; distance to the input at most ([0-9.]+) % of the diagonal");
 	int seen = 0;
 	for (const QString &line : lines) {
 		const QRegularExpressionMatch m = bound.match(line);
 		if (!m.hasMatch())
 			continue;
 		++seen;
-		EXPECT_LE(m.captured(1).toDouble(), 0.1 + 1e-4) << qUtf8Printable(line);
+		EXPECT_LE(m.captured(1).toDouble(), 3 * 0.1) << qUtf8Printable(line);
 		EXPECT_GT(m.captured(1).toDouble(), 0.0) << qUtf8Printable(line);
 	}
 	EXPECT_EQ(seen, 5) << qUtf8Printable(lines.join("\n"));

@@ -230,11 +230,11 @@ struct LevelStats {
 	double meanNormalDevDeg = 0; ///< area-weighted mean of the same
 	size_t unmeasuredFaces = 0;  ///< input faces whose centroid fell outside their superface's
 	                             ///< straightened outline (not in the two figures above)
-	double maxDistance = -1;     ///< with Params::maxDistance > 0: the largest distance the
-	                             ///< tolerance check measured (removed border vertices from their
-	                             ///< straightened chain, input faces from the triangles above
-	                             ///< them along the projection; mesh units): a bound, often above
-	                             ///< the Hausdorff distance; -1 = not measured (tolerance off)
+	double distanceBound = -1;   ///< with Params::maxDistance > 0: an upper bound on the distance
+	                             ///< between the level and the input, both ways (the two-sided
+	                             ///< Hausdorff distance), mesh units; proven per superface, not
+	                             ///< sampled (DESIGN 23); measured, it is about half of this;
+	                             ///< -1 = not computed (tolerance off)
 	double maxTexError = -1;     ///< with MeshView::cornerUV: the largest texture-coordinate
 	                             ///< error measured at removed vertices (UV units); -1 = none
 	double seconds = 0;          ///< wall time spent on this level (every trial), at least the

@@ -15,8 +15,11 @@ namespace detail {
 
 namespace {
 
-// The removed vertices of superface s's rings against the segments between kept ones.
-Failure bordersWithin(const TriangulationInput &in, int32_t s, std::vector<float> &gap)
+// Calls fn(j, a, c) for every removed vertex of superface s's rings: j its ring position, a and c
+// the kept vertices before and after it (the ends of its straightened segment). fn returns false
+// to stop (then false). False too if a ring keeps no vertex.
+template <class Fn>
+bool forRemovedRingVertices(const TriangulationInput &in, int32_t s, Fn fn)
 {
 	const Topology &t = in.t;
 	const Rings &rings = in.rings;
@@ -27,8 +30,8 @@ Failure bordersWithin(const TriangulationInput &in, int32_t s, std::vector<float
 		while (first < e && !in.b.keep[size_t(from(first))])
 			++first;
 		if (first == e)
-			return Failure::Ring;
-		Vec3 a = t.pos(from(first));
+			return false;
+		int32_t a = from(first);
 		int32_t runStart = 0; // removed vertices since the last kept one: positions in ring
 		for (int32_t step = 1, run = 0; step <= e - b; ++step) {
 			const int32_t i = b + (first - b + step) % (e - b);
@@ -38,38 +41,48 @@ Failure bordersWithin(const TriangulationInput &in, int32_t s, std::vector<float
 					runStart = i;
 				continue;
 			}
-			const Vec3 c = t.pos(v);
-			for (int32_t k = 0; k < run; ++k) {
-				const int32_t j = b + (runStart - b + k) % (e - b);
-				const double d = pointSegmentDistance(t.pos(from(j)), a, c);
-				if (d > in.limits.maxDistance)
-					return Failure::Deviation;
-				float &g = gap[size_t(heFace(rings.he[size_t(j)]))];
-				g = std::max(g, float(d));
-			}
-			a = c, run = 0;
+			for (int32_t k = 0; k < run; ++k)
+				if (!fn(b + (runStart - b + k) % (e - b), a, v))
+					return false;
+			a = v, run = 0;
 		}
 	}
-	return Failure::None;
+	return true;
+}
+
+// The removed vertices of superface s's rings against the segments between kept ones.
+Failure bordersWithin(const TriangulationInput &in, int32_t s, std::vector<float> &gap)
+{
+	const Topology &t = in.t;
+	bool far = false;
+	const bool rings = forRemovedRingVertices(in, s, [&](int32_t j, int32_t a, int32_t c) {
+		const int32_t he = in.rings.he[size_t(j)];
+		const double d = pointSegmentDistance(t.pos(t.heFrom(he)), t.pos(a), t.pos(c));
+		if (d > in.limits.maxDistance)
+			return !(far = true);
+		float &g = gap[size_t(heFace(he))];
+		g = std::max(g, float(d));
+		return true;
+	});
+	return far ? Failure::Deviation : rings ? Failure::None : Failure::Ring;
 }
 
 // Face f (2D corners fxy) clipped by the 2D triangle tv (Sutherland-Hodgman): its corners in
 // poly[cur][0 .. cnt).
-int clipByTriangle(const double fxy[6], const std::vector<double> &xy, const int32_t *tv,
-                   double poly[2][12][2], int &cur)
+int clipByTriangle(const double fxy[6], const double *const tv[3], double poly[2][12][2], int &cur)
 {
 	int cnt = 3;
 	for (int c = 0; c < 3; ++c)
 		poly[0][c][0] = fxy[2 * c], poly[0][c][1] = fxy[2 * c + 1];
 	double area = 0; // of the triangle, for its orientation
 	for (int e = 0; e < 3; ++e) {
-		const double *a = &xy[2 * size_t(tv[e])], *b = &xy[2 * size_t(tv[(e + 1) % 3])];
+		const double *a = tv[e], *b = tv[(e + 1) % 3];
 		area += a[0] * b[1] - a[1] * b[0];
 	}
 	const double sign = area >= 0 ? 1.0 : -1.0;
 	cur = 0;
 	for (int e = 0; e < 3 && cnt > 0; ++e) {
-		const double *a = &xy[2 * size_t(tv[e])], *b = &xy[2 * size_t(tv[(e + 1) % 3])];
+		const double *a = tv[e], *b = tv[(e + 1) % 3];
 		auto side = [&](const double *x) {
 			return sign * ((b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0]));
 		};
@@ -121,7 +134,10 @@ bool faceTooFar(const TriangulationInput &in, int32_t s, size_t i, int32_t k, co
 	}
 	double poly[2][12][2];
 	int cur = 0;
-	const int cnt = clipByTriangle(fxy, w.job.xy, &w.job.tris[3 * size_t(k)], poly, cur);
+	const int32_t *tv = &w.job.tris[3 * size_t(k)];
+	const double *const txy[3] = {&w.job.xy[2 * size_t(tv[0])], &w.job.xy[2 * size_t(tv[1])],
+	                              &w.job.xy[2 * size_t(tv[2])]};
+	const int cnt = clipByTriangle(fxy, txy, poly, cur);
 	// the gap at each corner of the clipped part (barycentric in the face)
 	const double det =
 	    (fxy[2] - fxy[0]) * (fxy[5] - fxy[1]) - (fxy[4] - fxy[0]) * (fxy[3] - fxy[1]);
@@ -140,7 +156,306 @@ bool faceTooFar(const TriangulationInput &in, int32_t s, size_t i, int32_t k, co
 	return false;
 }
 
+// 2x the signed area of the 2D triangle (a, b, c).
+inline double orient2(const double *a, const double *b, const double *c)
+{
+	return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+// Is the 2D point p inside (or on) the triangle tv? (of either orientation)
+bool insideTriangle(const double *p, const double *const tv[3])
+{
+	const double d0 = orient2(tv[0], tv[1], p), d1 = orient2(tv[1], tv[2], p),
+	             d2 = orient2(tv[2], tv[0], p);
+	return (d0 >= 0 && d1 >= 0 && d2 >= 0) || (d0 <= 0 && d1 <= 0 && d2 <= 0);
+}
+
+// A distance kept as a float, rounded up (a bound must stay a bound).
+inline float roundedUp(double d) { return float(d * (1 + 1e-6)); }
+
+// The new triangles of superface s in 2D (6 per triangle) and a grid over them: cell c holds
+// the triangles whose 2D bounding box meets it, w.cellTri[w.cellStart[c] .. w.cellStart[c+1]).
+struct TriangleGrid {
+	double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
+	double cell[2] = {1, 1};
+	int side = 1;
+
+	int at(double x, int d) const
+	{
+		const double c = (x - lo[d]) / cell[d];
+		return c <= 0 ? 0 : c >= side - 1 ? side - 1 : int(c);
+	}
+	void build(const double *xy, size_t ntri, Scratch &w)
+	{
+		for (size_t i = 0; i < 3 * ntri; ++i)
+			for (int d = 0; d < 2; ++d)
+				lo[d] = std::min(lo[d], xy[2 * i + size_t(d)]),
+				hi[d] = std::max(hi[d], xy[2 * i + size_t(d)]);
+		side = std::max(1, std::min(256, int(std::sqrt(double(ntri)))));
+		for (int d = 0; d < 2; ++d)
+			cell[d] = hi[d] > lo[d] ? (hi[d] - lo[d]) / side : 1.0;
+		w.cellStart.assign(size_t(side) * size_t(side) + 1, 0);
+		for (int pass = 0; pass < 2; ++pass) {
+			for (size_t k = 0; k < ntri; ++k) {
+				const double *t = &xy[6 * k];
+				const int x0 = at(std::min({t[0], t[2], t[4]}), 0),
+				          x1 = at(std::max({t[0], t[2], t[4]}), 0),
+				          y0 = at(std::min({t[1], t[3], t[5]}), 1),
+				          y1 = at(std::max({t[1], t[3], t[5]}), 1);
+				for (int y = y0; y <= y1; ++y)
+					for (int x = x0; x <= x1; ++x) {
+						const size_t c = size_t(y) * size_t(side) + size_t(x);
+						if (pass == 0)
+							++w.cellStart[c + 1];
+						else
+							w.cellTri[size_t(w.cellFill[c]++)] = int32_t(k);
+					}
+			}
+			if (pass == 0) {
+				for (size_t c = 1; c < w.cellStart.size(); ++c)
+					w.cellStart[c] += w.cellStart[c - 1];
+				w.cellTri.resize(size_t(w.cellStart.back()));
+				w.cellFill.assign(w.cellStart.begin(), w.cellStart.end() - 1);
+			}
+		}
+	}
+};
+
 } // namespace
+
+// Beyond the paper (DESIGN 23): an upper bound on the distance, both ways, between the input
+// faces of superface s and its new triangles, kept per input face in `bound` (the level's figure
+// is the largest; rounded up). Along N, the gap between an input face and a new triangle is linear
+// where their projections overlap, so its largest value there is at a corner of the overlap:
+// every overlapping pair (found with a grid over the triangles) is clipped, and the largest gap,
+// dv, bounds the distance of every point of a face above a triangle and of every point of a
+// triangle above a face. What is left are the pockets between a border chain and the segment
+// that replaced it, where a point is within wb (the largest distance of a removed border vertex
+// from its segment) of the chain in the projection:
+//  - a face with a part outside the straightened outline (an outward pocket): that part is
+//    within wb / cos(theta_in) of the chain along the input faces (theta_in: the largest angle
+//    between N and an input face over a pocket), and the chain within wb of its segment, an edge
+//    of the new triangles; or, the distance to one triangle being convex, the whole face is
+//    within the largest of its corners' distances to a triangle near it (the smaller of both);
+//  - a triangle with a part above no face (an inward pocket): within wb / cos(theta_out) of the
+//    chain along the new triangles over the pocket, and the chain within dv of them; or within
+//    the triangle's longest edge of one of its vertices, which are input vertices.
+// The argument assumes what the checks before it establish: the input faces of the superface
+// and its new triangles each project one-to-one onto the plane orthogonal to N.
+// Returns the superface's bound (mesh units).
+double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
+                     Scratch &w, const ChunkOut &o, std::vector<float> &bound)
+{
+	const Topology &t = in.t;
+	const size_t ntri = o.tris.size() / 3 - firstTri;
+	const int32_t *tri = &o.tris[3 * firstTri];
+	const Vec3 U = (std::fabs(N[0]) < 0.9 ? N ^ Vec3(1, 0, 0) : N ^ Vec3(0, 1, 0)).Normalize();
+	const Vec3 V = N ^ U;
+	const Vec3 origin = t.pos(tri[0]);
+	auto project = [&](const Vec3 &p, double *xy) {
+		const Vec3 q = p - origin;
+		xy[0] = q.dot(U), xy[1] = q.dot(V);
+	};
+	const int32_t fb = in.faces.begin(s);
+	const size_t faces = size_t(in.faces.end(s) - fb);
+	// the check's projection (same N, U, V), if it ran: every vertex is projected once
+	const bool job = ntri > 1 && w.cornerQuery.size() == 3 * faces &&
+	                 w.job.tris.size() == 3 * ntri && w.job.queryTri.size() >= faces;
+	w.boundXY.resize(6 * ntri);
+	w.triArea.resize(ntri);
+	w.triCovered.assign(ntri, 0.0);
+	for (size_t k = 0; k < ntri; ++k) {
+		for (size_t c = 0; c < 3; ++c) {
+			double *xy = &w.boundXY[6 * k + 2 * c];
+			if (job)
+				xy[0] = w.job.xy[2 * size_t(w.job.tris[3 * k + c])],
+				xy[1] = w.job.xy[2 * size_t(w.job.tris[3 * k + c]) + 1];
+			else
+				project(t.pos(tri[3 * k + c]), xy);
+		}
+		const double *xy = &w.boundXY[6 * k];
+		w.triArea[k] = 0.5 * std::fabs(orient2(xy, xy + 2, xy + 4));
+	}
+	TriangleGrid grid;
+	bool gridBuilt = false; // (only faces over several triangles need it)
+	if (w.triStamp.size() < ntri)
+		w.triStamp.resize(ntri, 0);
+	auto newStamp = [&] {
+		if (++w.stampNow == 0) { // (wrapped: clear the stamps)
+			std::fill(w.triStamp.begin(), w.triStamp.end(), 0u);
+			w.stampNow = 1;
+		}
+	};
+	// the triangles whose 2D bounding box meets the face's, each once (since newStamp())
+	auto forNear = [&](const double fxy[6], auto fn) {
+		if (!gridBuilt) {
+			grid.build(w.boundXY.data(), ntri, w);
+			gridBuilt = true;
+		}
+		const double lo[2] = {std::min({fxy[0], fxy[2], fxy[4]}),
+		                      std::min({fxy[1], fxy[3], fxy[5]})};
+		const double hi[2] = {std::max({fxy[0], fxy[2], fxy[4]}),
+		                      std::max({fxy[1], fxy[3], fxy[5]})};
+		for (int y = grid.at(lo[1], 1); y <= grid.at(hi[1], 1); ++y)
+			for (int x = grid.at(lo[0], 0); x <= grid.at(hi[0], 0); ++x) {
+				const size_t c = size_t(y) * size_t(grid.side) + size_t(x);
+				for (int32_t q = w.cellStart[c]; q < w.cellStart[c + 1]; ++q) {
+					const size_t k = size_t(w.cellTri[size_t(q)]);
+					if (w.triStamp[k] == w.stampNow)
+						continue;
+					w.triStamp[k] = w.stampNow;
+					const double *tv = &w.boundXY[6 * k];
+					if (std::max({tv[0], tv[2], tv[4]}) < lo[0] ||
+					    std::min({tv[0], tv[2], tv[4]}) > hi[0] ||
+					    std::max({tv[1], tv[3], tv[5]}) < lo[1] ||
+					    std::min({tv[1], tv[3], tv[5]}) > hi[1])
+						continue;
+					if (!fn(k))
+						return;
+				}
+			}
+	};
+	auto faceCorners = [&](int32_t i, Vec3 P[3], double fxy[6]) { // (i: position in s's faces)
+		const int32_t f = in.faces.face[size_t(i)];
+		for (int c = 0; c < 3; ++c) {
+			P[c] = t.pos(t.T[3 * f + c]);
+			if (job) {
+				const size_t q = faces + size_t(w.cornerQuery[3 * size_t(i - fb) + size_t(c)]);
+				fxy[2 * c] = w.job.queryXY[2 * q], fxy[2 * c + 1] = w.job.queryXY[2 * q + 1];
+			} else {
+				project(P[c], &fxy[2 * c]);
+			}
+		}
+	};
+	double wb = 0; // the removed border vertices' distances from their segments
+	forRemovedRingVertices(in, s, [&](int32_t j, int32_t a, int32_t c) {
+		wb = std::max(
+		    wb, pointSegmentDistance(t.pos(t.heFrom(in.rings.he[size_t(j)])), t.pos(a), t.pos(c)));
+		return true;
+	});
+	// the triangles the check located a face's corners in (-1: none)
+	auto cornersLocated = [&](int32_t i, int32_t k[3]) {
+		for (int c = 0; c < 3; ++c)
+			k[c] =
+			    ntri == 1 ? 0
+			    : job
+			        ? w.job.queryTri[faces + size_t(w.cornerQuery[3 * size_t(i - fb) + size_t(c)])]
+			        : -1;
+	};
+	double dv = 0, sfBound = 0, cosIn = 1;
+	w.boundCand.clear(); // here: the faces with a part outside the outline
+	for (int32_t i = fb; i < in.faces.end(s); ++i) {
+		const int32_t f = in.faces.face[size_t(i)];
+		Vec3 P[3];
+		double fxy[6];
+		faceCorners(i, P, fxy);
+		const double det = orient2(&fxy[0], &fxy[2], &fxy[4]);
+		const double faceArea = 0.5 * std::fabs(det);
+		double covered = 0, faceGap = 0;
+		auto overlap = [&](size_t k) {
+			const Vec3 &n = w.triNormal[k];
+			const double nN = n.dot(N);
+			if (!(std::fabs(nN) > 1e-12))
+				return true; // (seen edge-on: covers nothing in the projection)
+			const Vec3 q0 = t.pos(tri[3 * k]);
+			double g[3]; // the gap of each corner of the face to the triangle's plane, along N
+			for (int c = 0; c < 3; ++c)
+				g[c] = (P[c] - q0).dot(n) / nN;
+			const double *tv[3] = {&w.boundXY[6 * k], &w.boundXY[6 * k + 2], &w.boundXY[6 * k + 4]};
+			if (insideTriangle(&fxy[0], tv) && insideTriangle(&fxy[2], tv) &&
+			    insideTriangle(&fxy[4], tv)) { // the face is above this triangle only
+				faceGap = std::max({faceGap, std::fabs(g[0]), std::fabs(g[1]), std::fabs(g[2])});
+				covered = faceArea;
+				w.triCovered[k] += faceArea;
+				return false;
+			}
+			if (!(faceArea > 0))
+				return true;
+			double poly[2][12][2];
+			int cur = 0;
+			const int cnt = clipByTriangle(fxy, tv, poly, cur);
+			double area2 = 0;
+			for (int j = 0; j < cnt; ++j) {
+				const double *a = poly[cur][j], *b = poly[cur][(j + 1) % cnt];
+				area2 += a[0] * b[1] - a[1] * b[0];
+				const double dx = a[0] - fxy[0], dy = a[1] - fxy[1];
+				const double b1 = (dx * (fxy[5] - fxy[1]) - dy * (fxy[4] - fxy[0])) / det;
+				const double b2 = ((fxy[2] - fxy[0]) * dy - (fxy[3] - fxy[1]) * dx) / det;
+				faceGap =
+				    std::max(faceGap, std::fabs((1 - b1 - b2) * g[0] + b1 * g[1] + b2 * g[2]));
+			}
+			covered += 0.5 * std::fabs(area2);
+			w.triCovered[k] += 0.5 * std::fabs(area2);
+			return true;
+		};
+		// the triangles its corners are in first; if they cover it, no other can overlap it
+		int32_t located[3];
+		cornersLocated(i, located);
+		newStamp();
+		bool more = true;
+		for (int c = 0; c < 3 && more; ++c) {
+			const int32_t k = located[c];
+			if (k < 0 || w.triStamp[size_t(k)] == w.stampNow)
+				continue;
+			w.triStamp[size_t(k)] = w.stampNow;
+			more = overlap(size_t(k)) && !(covered >= faceArea * (1 - 1e-12) && faceArea > 0);
+		}
+		if (more)
+			forNear(fxy, overlap);
+		dv = std::max(dv, faceGap);
+		sfBound = std::max(sfBound, faceGap);
+		bound[size_t(f)] = std::max(bound[size_t(f)], roundedUp(faceGap));
+		if (!(faceArea > 0) || covered < faceArea * (1 - 1e-10)) {
+			w.boundCand.push_back(i);
+			const Vec3 n = (P[1] - P[0]) ^ (P[2] - P[0]);
+			cosIn = std::min(cosIn, n.Norm() > 0 ? n.dot(N) / n.Norm() : 0.0);
+		}
+	}
+	// outward pockets
+	const double outward = wb > 0 && cosIn > 0 ? wb / cosIn + wb : HUGE_VAL;
+	for (const int32_t i : w.boundCand) {
+		const int32_t f = in.faces.face[size_t(i)];
+		Vec3 P[3];
+		double fxy[6];
+		faceCorners(i, P, fxy);
+		double best = outward * outward; // (squared)
+		auto convex = [&](size_t k) {
+			const int32_t *v = &tri[3 * k];
+			double m = 0;
+			for (int c = 0; c < 3 && m < best; ++c)
+				m = std::max(m,
+				             pointTriangleDistance2(P[c], t.pos(v[0]), t.pos(v[1]), t.pos(v[2])));
+			best = std::min(best, m);
+			return true;
+		};
+		forNear(fxy, convex);
+		if (!(best < HUGE_VAL))
+			for (size_t k = 0; k < ntri; ++k)
+				convex(k);
+		const double d = std::sqrt(best);
+		bound[size_t(f)] = std::max(bound[size_t(f)], roundedUp(d));
+		sfBound = std::max(sfBound, d);
+	}
+	// inward pockets
+	double cosOut = 1, longest = 0;
+	bool inward = false;
+	for (size_t k = 0; k < ntri; ++k) {
+		if (w.triCovered[k] >= w.triArea[k] * (1 - 1e-10) && w.triArea[k] > 0)
+			continue;
+		inward = true;
+		cosOut = std::min(cosOut, std::fabs(w.triNormal[k].dot(N)));
+		for (size_t c = 0; c < 3; ++c)
+			longest =
+			    std::max(longest, (t.pos(tri[3 * k + c]) - t.pos(tri[3 * k + (c + 1) % 3])).Norm());
+	}
+	if (inward) {
+		const double d = std::min(cosOut > 0 ? wb / cosOut + dv : HUGE_VAL, longest);
+		const size_t f0 = size_t(in.faces.face[size_t(in.faces.begin(s))]);
+		bound[f0] = std::max(bound[f0], roundedUp(d));
+		sfBound = std::max(sfBound, d);
+	}
+	return sfBound;
+}
 
 Failure distanceCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
                       const Scratch &w, const ChunkOut &o, std::vector<float> &gap)

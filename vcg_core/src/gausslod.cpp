@@ -269,8 +269,8 @@ void setTargetStats(const Params &p, int level, size_t target, double diagonal, 
 		st.targetReached = st.faces <= target;
 	} else if (!p.levelDistances.empty()) {
 		st.targetDistance = p.levelDistances[size_t(level)];
-		// (the measured distances are floats)
-		st.targetReached = st.maxDistance <= st.targetDistance * diagonal * (1 + 1e-6);
+		// (the level's distance bound, rounded up as a float: DESIGN 23)
+		st.targetReached = st.distanceBound <= st.targetDistance * diagonal * (1 + 1e-5);
 	}
 }
 

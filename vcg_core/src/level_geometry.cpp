@@ -22,6 +22,9 @@ LevelLimits levelLimits(const Params &prm, double diagonal, int level, bool hasU
 	    prm.levelDistances.empty()
 	        ? prm.maxDistance * diagonal * std::pow(prm.distanceGrowth, prm.maxLevel - 1 - level)
 	        : prm.levelDistances[size_t(level)] * diagonal; // (levels by target)
+	// levels by error (not the searches of levels by faces): the level's distance bound, not only
+	// what the check measures, must stay within the target (DESIGN 23)
+	l.boundIsLimit = !prm.levelDistances.empty() && prm.levelFaces.empty();
 	if (l.maxDistance > 0) {
 		l.tolerance = std::min(l.tolerance, std::max(l.maxDistance, l.exact));
 		l.mergeDistance = std::min(l.mergeDistance, 0.5 * l.maxDistance);
@@ -444,7 +447,7 @@ void LevelRounds::fillStats(size_t fallbacks, size_t vertices)
 	st.meanNormalDevDeg = area > 0 ? sum / area : 0;
 	st.unmeasuredFaces = unmeasured;
 	if (!measures_.gap.empty())
-		st.maxDistance = double(*std::max_element(measures_.gap.begin(), measures_.gap.end()));
+		st.distanceBound = double(*std::max_element(measures_.gap.begin(), measures_.gap.end()));
 	if (!measures_.tex.empty())
 		st.maxTexError = double(*std::max_element(measures_.tex.begin(), measures_.tex.end()));
 }

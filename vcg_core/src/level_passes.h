@@ -33,6 +33,7 @@ struct LevelLimits {
 	double mergeDistance = 0; ///< vicinity merge distance (2.3.2); 0 = no merging
 	double devLimitDeg = 180; ///< normal-deviation limit of the level; 180 = none
 	double maxDistance = 0;   ///< distance tolerance; 0 = none
+	bool boundIsLimit = false; ///< a superface whose distance bound exceeds it fails too
 	double maxTexError = 0;   ///< texture-coordinate limit (UV units); 0 = none or no UVs
 	int finest = 0;           ///< the finest level (Params::maxLevel - 1)
 	double exact = 0;         ///< below this, a vertex counts as exactly on its chain
@@ -143,6 +144,11 @@ struct Scratch {
 	std::vector<int32_t> steiner;
 	std::vector<uint8_t> steinerMark; ///< per input vertex (sized on first use)
 	std::vector<std::pair<double, int32_t>> farthest; ///< per new triangle: (gap, vertex)
+	// distance bound (distanceBound): the new triangles in 2D, a grid over them, candidates
+	std::vector<double> boundXY, triArea, triCovered;
+	std::vector<int32_t> cellStart, cellFill, cellTri, boundCand;
+	std::vector<uint32_t> triStamp;
+	uint32_t stampNow = 0;
 	bool inserted(int32_t v) const { return !steinerMark.empty() && steinerMark[size_t(v)]; }
 };
 
@@ -177,7 +183,7 @@ struct Chunks {
 /// Per input face measurements, kept across rounds (a superface rebuilt resets its faces).
 struct FaceMeasures {
 	std::vector<float> dev; ///< normal deviation, degrees; -1 = not measured
-	std::vector<float> gap; ///< distance measured by the tolerance check (maxDistance > 0 only)
+	std::vector<float> gap; ///< distance bound (distanceBound; maxDistance > 0 only)
 	std::vector<float> tex; ///< texture-coordinate error measured (maxTexError > 0 only)
 };
 
@@ -248,6 +254,10 @@ Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, Chunk
 /// The distance tolerance on superface s, just triangulated from triangle firstTri of o.
 Failure distanceCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
                       const Scratch &w, const ChunkOut &o, std::vector<float> &gap);
+/// A proven upper bound on the distance, both ways, between superface s's input faces and its new
+/// triangles (from firstTri; w.triNormal set), kept per input face in `bound` (max); returned.
+double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
+                     Scratch &w, const ChunkOut &o, std::vector<float> &bound);
 
 /// The texture-stretch check on superface s, just triangulated from triangle firstTri of o.
 Failure textureCheck(const TriangulationInput &in, int32_t s, size_t firstTri, const Scratch &w,

@@ -309,6 +309,10 @@ Failure triangulateAndCheck(const TriangulationInput &in, int32_t s, const Vec3 
 	}
 	if (!uncoveredFacing(in, s, o, firstTri, w) || !nearestSurfaceFacing(in.t, w))
 		return Failure::Ring;
+	if (in.limits.maxDistance > 0 && // (the level's reported distance: a bound, DESIGN 23)
+	    distanceBound(in, s, N, firstTri, w, o, m.gap) > in.limits.maxDistance &&
+	    in.limits.boundIsLimit)
+		return Failure::Deviation; // (tighter borders, then locked ones: the pockets close)
 	return Failure::None;
 }
 
