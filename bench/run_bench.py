@@ -408,8 +408,9 @@ class Bench:
         for l in levels:
             self.add_row(name, "gausslod", l["level"], None,
                          {"file": l["file"], "faces": l["faces"], "seconds": l["seconds"],
-                          "peak_mb": gr["peak_mb"], "extra": {k: l[k] for k in
-                                                              ("fallbacks", "superfaces", "bound_deg")}},
+                          "peak_mb": gr["peak_mb"], "extra": {k: l.get(k) for k in
+                                                              ("fallbacks", "superfaces", "bound_deg",
+                                                               "distance_bound_pct")}},
                          ply)
         targets = levels
         if peers == "coarsest":
@@ -1073,6 +1074,29 @@ def bars(bench):
     return L
 
 
+def bound_section(bench):
+    """Our levels' reported distance bound (DESIGN 23) against the Hausdorff distance measured here:
+    the bound must never be below it."""
+    L = ["### Reported distance bound vs measured Hausdorff distance (our levels)", ""]
+    pairs = []
+    for r in our_levels(bench.rows, "gausslod"):
+        b = (r.get("extra") or {}).get("distance_bound_pct")
+        if b is not None:
+            pairs.append((r["model"], r["level"], b, r["hausdorff_pct"]))
+    if not pairs:
+        return L + ["No level reported a bound (distance tolerance off).", ""]
+    below = [p for p in pairs if p[2] < p[3] * (1 - 1e-6)]
+    ratios = [p[2] / p[3] for p in pairs if p[3] > 1e-9]
+    L.append("%d levels: bound below the measured Hausdorff distance in **%d** (wanted: 0); bound / measured: "
+             "median %s, min %s, max %s (a sampled distance is at most the true one, so the bound is expected "
+             "above it)." % (len(pairs), len(below), fmt(median(ratios)), fmt(min(ratios) if ratios else None),
+                             fmt(max(ratios) if ratios else None)))
+    for m, lvl, b, h in below:
+        L.append("- BELOW: %s LOD%s bound %s %% < Hausdorff %s %%" % (m, lvl, fmt(b), fmt(h)))
+    L.append("")
+    return L
+
+
 def report(bench, resdir, cmdline):
     os.makedirs(resdir, exist_ok=True)
     for f in os.listdir(resdir):  # the plots' earlier name (Hausdorff only): stale
@@ -1096,6 +1120,7 @@ def report(bench, resdir, cmdline):
     L.append("")
     L += bars(bench)
     L += pareto_section(bench)
+    L += bound_section(bench)
     L.append("## Results per model")
     L.append("")
     for name, m in bench.models.items():
