@@ -89,7 +89,9 @@ std::vector<Entry> makeEntries()
 	      "gets input vertices inside it kept where it curves, else is retried with tighter "
 	      "borders, then split; the tolerance also caps the straightening tolerance (and the "
 	      "merge distance at half of it). Default 0.02 % (0.32 % at LOD0 of 5): curved parts "
-	      "keep their shape. 0 = no distance limit (only normals decide, as in the paper).",
+	      "keep their shape. Each level then reports a proven upper bound on its distance to "
+	      "the input (log, layer name), about twice the measured one. 0 = no distance limit "
+	      "(only normals decide, as in the paper).",
 	      d.maxDistance, 0, 1, false, true},
 	     &Params::maxDistance},
 	    {{"distanceGrowth", K::Real, "Distance growth per level",
