@@ -67,35 +67,51 @@ Failure bordersWithin(const TriangulationInput &in, int32_t s, std::vector<float
 	return far ? Failure::Deviation : rings ? Failure::None : Failure::Ring;
 }
 
-// Face f (2D corners fxy) clipped by the 2D triangle tv (Sutherland-Hodgman): its corners in
-// poly[cur][0 .. cnt).
-int clipByTriangle(const double fxy[6], const double *const tv[3], double poly[2][12][2], int &cur)
+// The orientation of the 2D triangle tv, as clipByTriangle takes it: 1 or -1.
+double clipSign(const double *const tv[3])
 {
-	int cnt = 3;
-	for (int c = 0; c < 3; ++c)
-		poly[0][c][0] = fxy[2 * c], poly[0][c][1] = fxy[2 * c + 1];
-	double area = 0; // of the triangle, for its orientation
+	double area = 0;
 	for (int e = 0; e < 3; ++e) {
 		const double *a = tv[e], *b = tv[(e + 1) % 3];
 		area += a[0] * b[1] - a[1] * b[0];
 	}
-	const double sign = area >= 0 ? 1.0 : -1.0;
+	return area >= 0 ? 1.0 : -1.0;
+}
+
+// Face f (2D corners fxy) clipped by the 2D triangle tv (Sutherland-Hodgman; sign = clipSign(tv)):
+// its corners in poly[cur][0 .. cnt). Each corner's side of an edge is computed once, and an edge
+// that keeps every corner leaves the polygon as it is (what the copy would give).
+int clipByTriangle(const double fxy[6], const double *const tv[3], double sign,
+                   double poly[2][12][2], int &cur)
+{
+	int cnt = 3;
+	for (int c = 0; c < 3; ++c)
+		poly[0][c][0] = fxy[2 * c], poly[0][c][1] = fxy[2 * c + 1];
 	cur = 0;
 	for (int e = 0; e < 3 && cnt > 0; ++e) {
-		const double *a = tv[e], *b = tv[(e + 1) % 3];
-		auto side = [&](const double *x) {
-			return sign * ((b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0]));
-		};
+		const double *a = tv[e], *b = tv[e == 2 ? 0 : e + 1];
+		const double ex = b[0] - a[0], ey = b[1] - a[1];
+		const double(*from)[2] = poly[cur];
+		double side[12];
+		bool all = true;
+		for (int j = 0; j < cnt; ++j) {
+			side[j] = sign * (ex * (from[j][1] - a[1]) - ey * (from[j][0] - a[0]));
+			all = all && side[j] >= 0;
+		}
+		if (all)
+			continue;
+		double(*to)[2] = poly[1 - cur];
 		int out = 0;
 		for (int j = 0; j < cnt; ++j) {
-			const double *x = poly[cur][j], *y = poly[cur][(j + 1) % cnt];
-			const double sx = side(x), sy = side(y);
+			const int jn = j + 1 == cnt ? 0 : j + 1;
+			const double *x = from[j], *y = from[jn];
+			const double sx = side[j], sy = side[jn];
 			if (sx >= 0 && out < 12)
-				poly[1 - cur][out][0] = x[0], poly[1 - cur][out++][1] = x[1];
+				to[out][0] = x[0], to[out++][1] = x[1];
 			if (((sx >= 0) != (sy >= 0)) && out < 12) {
 				const double u = sx / (sx - sy);
-				poly[1 - cur][out][0] = x[0] + u * (y[0] - x[0]);
-				poly[1 - cur][out++][1] = x[1] + u * (y[1] - x[1]);
+				to[out][0] = x[0] + u * (y[0] - x[0]);
+				to[out++][1] = x[1] + u * (y[1] - x[1]);
 			}
 		}
 		cnt = out, cur = 1 - cur;
@@ -137,7 +153,7 @@ bool faceTooFar(const TriangulationInput &in, int32_t s, size_t i, int32_t k, co
 	const int32_t *tv = &w.job.tris[3 * size_t(k)];
 	const double *const txy[3] = {&w.job.xy[2 * size_t(tv[0])], &w.job.xy[2 * size_t(tv[1])],
 	                              &w.job.xy[2 * size_t(tv[2])]};
-	const int cnt = clipByTriangle(fxy, txy, poly, cur);
+	const int cnt = clipByTriangle(fxy, txy, clipSign(txy), poly, cur);
 	// the gap at each corner of the clipped part (barycentric in the face)
 	const double det =
 	    (fxy[2] - fxy[0]) * (fxy[5] - fxy[1]) - (fxy[4] - fxy[0]) * (fxy[3] - fxy[1]);
@@ -264,6 +280,10 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 	w.boundXY.resize(6 * ntri);
 	w.triArea.resize(ntri);
 	w.triCovered.assign(ntri, 0.0);
+	// per triangle, once: its 2D bounding box, its orientation for the clipping, n . N
+	w.triBox.resize(4 * ntri);
+	w.triSign.resize(ntri);
+	w.triNN.resize(ntri);
 	for (size_t k = 0; k < ntri; ++k) {
 		for (size_t c = 0; c < 3; ++c) {
 			double *xy = &w.boundXY[6 * k + 2 * c];
@@ -275,6 +295,12 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 		}
 		const double *xy = &w.boundXY[6 * k];
 		w.triArea[k] = 0.5 * std::fabs(orient2(xy, xy + 2, xy + 4));
+		double *box = &w.triBox[4 * k];
+		box[0] = std::min({xy[0], xy[2], xy[4]}), box[1] = std::max({xy[0], xy[2], xy[4]});
+		box[2] = std::min({xy[1], xy[3], xy[5]}), box[3] = std::max({xy[1], xy[3], xy[5]});
+		const double *const tv[3] = {xy, xy + 2, xy + 4};
+		w.triSign[k] = clipSign(tv);
+		w.triNN[k] = w.triNormal[k].dot(N);
 	}
 	TriangleGrid grid;
 	bool gridBuilt = false; // (only faces over several triangles need it)
@@ -304,11 +330,8 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 					if (w.triStamp[k] == w.stampNow)
 						continue;
 					w.triStamp[k] = w.stampNow;
-					const double *tv = &w.boundXY[6 * k];
-					if (std::max({tv[0], tv[2], tv[4]}) < lo[0] ||
-					    std::min({tv[0], tv[2], tv[4]}) > hi[0] ||
-					    std::max({tv[1], tv[3], tv[5]}) < lo[1] ||
-					    std::min({tv[1], tv[3], tv[5]}) > hi[1])
+					const double *box = &w.triBox[4 * k];
+					if (box[1] < lo[0] || box[0] > hi[0] || box[3] < lo[1] || box[2] > hi[1])
 						continue;
 					if (!fn(k))
 						return;
@@ -354,7 +377,7 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 		double covered = 0, faceGap = 0;
 		auto overlap = [&](size_t k) {
 			const Vec3 &n = w.triNormal[k];
-			const double nN = n.dot(N);
+			const double nN = w.triNN[k];
 			if (!(std::fabs(nN) > 1e-12))
 				return true; // (seen edge-on: covers nothing in the projection)
 			const Vec3 q0 = t.pos(tri[3 * k]);
@@ -373,7 +396,7 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 				return true;
 			double poly[2][12][2];
 			int cur = 0;
-			const int cnt = clipByTriangle(fxy, tv, poly, cur);
+			const int cnt = clipByTriangle(fxy, tv, w.triSign[k], poly, cur);
 			double area2 = 0;
 			for (int j = 0; j < cnt; ++j) {
 				const double *a = poly[cur][j], *b = poly[cur][(j + 1) % cnt];

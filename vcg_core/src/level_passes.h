@@ -134,6 +134,9 @@ struct Scratch {
 	std::vector<float> ringUV; ///< with the texture check: u, v of each ring vertex's corner
 	std::vector<uint64_t> edgesNow, edgesBefore; // directed border edges (see reuse)
 	std::vector<Vec3> triNormal, centroid;
+	/// Topology::faceNormal of the current superface's faces, by position in it (projectionNormal;
+	/// empty above kMaxCachedNormals faces, where they are computed when asked)
+	std::vector<Vec3> sfNormal;
 	std::vector<double> ownDist2;
 	std::vector<uint8_t> covered;
 	// distance tolerance and texture check: each vertex of a superface's faces located once
@@ -145,7 +148,7 @@ struct Scratch {
 	std::vector<uint8_t> steinerMark; ///< per input vertex (sized on first use)
 	std::vector<std::pair<double, int32_t>> farthest; ///< per new triangle: (gap, vertex)
 	// distance bound (distanceBound): the new triangles in 2D, a grid over them, candidates
-	std::vector<double> boundXY, triArea, triCovered;
+	std::vector<double> boundXY, triArea, triCovered, triBox, triSign, triNN;
 	std::vector<int32_t> cellStart, cellFill, cellTri, boundCand;
 	std::vector<uint32_t> triStamp;
 	uint32_t stampNow = 0;

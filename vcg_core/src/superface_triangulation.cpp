@@ -136,6 +136,50 @@ bool triangleFrames(const Topology &t, const ChunkOut &o, size_t firstTri, Scrat
 	return true;
 }
 
+// Above this many faces, a superface's face normals are computed when asked rather than kept in
+// Scratch::sfNormal (24 bytes per face per thread).
+constexpr int32_t kMaxCachedNormals = 1 << 16;
+
+// The normal of the face at position i of superface s (Topology::faceNormal, the same bits).
+inline Vec3 sfFaceNormal(const TriangulationInput &in, int32_t s, int32_t i, const Scratch &w)
+{
+	return w.sfNormal.empty() ? in.t.faceNormal[size_t(in.faces.face[size_t(in.faces.begin(s) + i)])]
+	                          : w.sfNormal[size_t(i)];
+}
+
+// The area-weighted normal of superface s (unit), or false if its projection on the plane
+// orthogonal to it folds; sets `unchanged` if every vertex of its faces is kept. Keeps the face
+// normals in w.sfNormal (each computed once per superface, not once per check).
+bool projectionNormal(const TriangulationInput &in, int32_t s, Vec3 &N, bool &unchanged, Scratch &w)
+{
+	const Topology &t = in.t;
+	const int32_t fb = in.faces.begin(s), fe = in.faces.end(s);
+	const bool cache = fe - fb <= kMaxCachedNormals;
+	w.sfNormal.resize(cache ? size_t(fe - fb) : 0);
+	N = Vec3(0, 0, 0);
+	for (int32_t i = fb; i < fe; ++i) {
+		const int32_t f = in.faces.face[size_t(i)];
+		Vec3 n;
+		double area;
+		t.faceNormal.normalAndArea(size_t(f), n, area); // (= faceNormal[f], faceArea[f])
+		N += n * area;
+		if (cache)
+			w.sfNormal[size_t(i - fb)] = n;
+	}
+	if (!(N.Norm() > 0))
+		return false;
+	N.Normalize();
+	unchanged = true;
+	for (int32_t i = fb; i < fe; ++i) {
+		const int32_t f = in.faces.face[size_t(i)];
+		if (!(sfFaceNormal(in, s, i - fb, w).dot(N) > 1e-6))
+			return false; // the projection on the best-fit plane folds
+		for (int k = 0; k < 3; ++k)
+			unchanged = unchanged && in.b.keep[size_t(t.T[3 * f + k])];
+	}
+	return true;
+}
+
 // The measured normal deviation: each input face against the triangle its centroid falls in; a
 // triangle flipped (> 90 deg) or beyond the level's limit fails.
 bool deviationWithinLimit(const TriangulationInput &in, int32_t s, size_t ntri, Scratch &w,
@@ -148,7 +192,7 @@ bool deviationWithinLimit(const TriangulationInput &in, int32_t s, size_t ntri, 
 		const int32_t k = ntri == 1 ? 0 : w.job.queryTri[size_t(i - fb)];
 		if (k < 0)
 			continue;
-		const double d = angleDeg(t.faceNormal[size_t(f)], w.triNormal[size_t(k)]);
+		const double d = angleDeg(sfFaceNormal(in, s, i - fb, w), w.triNormal[size_t(k)]);
 		if (d > 90 || d > in.limits.devLimitDeg)
 			return false;
 		m.dev[size_t(f)] = float(d);
@@ -217,30 +261,6 @@ bool nearestSurfaceFacing(const Topology &t, const Scratch &w)
 		});
 		if (!facing)
 			return false;
-	}
-	return true;
-}
-
-// The area-weighted normal of superface s (unit), or false if its projection on the plane
-// orthogonal to it folds; sets `unchanged` if every vertex of its faces is kept.
-bool projectionNormal(const TriangulationInput &in, int32_t s, Vec3 &N, bool &unchanged)
-{
-	const Topology &t = in.t;
-	N = Vec3(0, 0, 0);
-	for (int32_t i = in.faces.begin(s); i < in.faces.end(s); ++i) {
-		const int32_t f = in.faces.face[size_t(i)];
-		N += t.faceNormal[size_t(f)] * t.faceArea[size_t(f)];
-	}
-	if (!(N.Norm() > 0))
-		return false;
-	N.Normalize();
-	unchanged = true;
-	for (int32_t i = in.faces.begin(s); i < in.faces.end(s); ++i) {
-		const int32_t f = in.faces.face[size_t(i)];
-		if (!(t.faceNormal[size_t(f)].dot(N) > 1e-6))
-			return false; // the projection on the best-fit plane folds
-		for (int k = 0; k < 3; ++k)
-			unchanged = unchanged && in.b.keep[size_t(t.T[3 * f + k])];
 	}
 	return true;
 }
@@ -387,7 +407,7 @@ Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, Chunk
 	}
 	Vec3 N;
 	bool unchanged = false;
-	if (!projectionNormal(in, s, N, unchanged))
+	if (!projectionNormal(in, s, N, unchanged, w))
 		return Failure::Fold;
 	if (unchanged) {
 		copyInputFaces(in, s, false, o, m);
