@@ -79,14 +79,15 @@ double clipSign(const double *const tv[3])
 }
 
 // Face f (2D corners fxy) clipped by the 2D triangle tv (Sutherland-Hodgman; sign = clipSign(tv)):
-// its corners in poly[cur][0 .. cnt). Each corner's side of an edge is computed once, and an edge
+// its corners in poly[cur][0 .. cnt), tag[cur][j] = c if corner j is the face's corner c as it is
+// (copied, not computed), else -1. Each corner's side of an edge is computed once, and an edge
 // that keeps every corner leaves the polygon as it is (what the copy would give).
 int clipByTriangle(const double fxy[6], const double *const tv[3], double sign,
-                   double poly[2][12][2], int &cur)
+                   double poly[2][12][2], signed char tag[2][12], int &cur)
 {
 	int cnt = 3;
 	for (int c = 0; c < 3; ++c)
-		poly[0][c][0] = fxy[2 * c], poly[0][c][1] = fxy[2 * c + 1];
+		poly[0][c][0] = fxy[2 * c], poly[0][c][1] = fxy[2 * c + 1], tag[0][c] = (signed char)c;
 	cur = 0;
 	for (int e = 0; e < 3 && cnt > 0; ++e) {
 		const double *a = tv[e], *b = tv[e == 2 ? 0 : e + 1];
@@ -101,15 +102,18 @@ int clipByTriangle(const double fxy[6], const double *const tv[3], double sign,
 		if (all)
 			continue;
 		double(*to)[2] = poly[1 - cur];
+		const signed char *fromTag = tag[cur];
+		signed char *toTag = tag[1 - cur];
 		int out = 0;
 		for (int j = 0; j < cnt; ++j) {
 			const int jn = j + 1 == cnt ? 0 : j + 1;
 			const double *x = from[j], *y = from[jn];
 			const double sx = side[j], sy = side[jn];
 			if (sx >= 0 && out < 12)
-				to[out][0] = x[0], to[out++][1] = x[1];
+				toTag[out] = fromTag[j], to[out][0] = x[0], to[out++][1] = x[1];
 			if (((sx >= 0) != (sy >= 0)) && out < 12) {
 				const double u = sx / (sx - sy);
+				toTag[out] = -1;
 				to[out][0] = x[0] + u * (y[0] - x[0]);
 				to[out++][1] = x[1] + u * (y[1] - x[1]);
 			}
@@ -149,11 +153,12 @@ bool faceTooFar(const TriangulationInput &in, int32_t s, size_t i, int32_t k, co
 		fxy[2 * c + 1] = w.job.queryXY[2 * qi + 1];
 	}
 	double poly[2][12][2];
+	signed char tag[2][12];
 	int cur = 0;
 	const int32_t *tv = &w.job.tris[3 * size_t(k)];
 	const double *const txy[3] = {&w.job.xy[2 * size_t(tv[0])], &w.job.xy[2 * size_t(tv[1])],
 	                              &w.job.xy[2 * size_t(tv[2])]};
-	const int cnt = clipByTriangle(fxy, txy, clipSign(txy), poly, cur);
+	const int cnt = clipByTriangle(fxy, txy, clipSign(txy), poly, tag, cur);
 	// the gap at each corner of the clipped part (barycentric in the face)
 	const double det =
 	    (fxy[2] - fxy[0]) * (fxy[5] - fxy[1]) - (fxy[4] - fxy[0]) * (fxy[3] - fxy[1]);
@@ -380,13 +385,16 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 			const double nN = w.triNN[k];
 			if (!(std::fabs(nN) > 1e-12))
 				return true; // (seen edge-on: covers nothing in the projection)
-			const Vec3 q0 = t.pos(tri[3 * k]);
 			double g[3]; // the gap of each corner of the face to the triangle's plane, along N
-			for (int c = 0; c < 3; ++c)
-				g[c] = (P[c] - q0).dot(n) / nN;
+			auto gaps = [&] {
+				const Vec3 q0 = t.pos(tri[3 * k]);
+				for (int c = 0; c < 3; ++c)
+					g[c] = (P[c] - q0).dot(n) / nN;
+			};
 			const double *tv[3] = {&w.boundXY[6 * k], &w.boundXY[6 * k + 2], &w.boundXY[6 * k + 4]};
 			if (insideTriangle(&fxy[0], tv) && insideTriangle(&fxy[2], tv) &&
 			    insideTriangle(&fxy[4], tv)) { // the face is above this triangle only
+				gaps();
 				faceGap = std::max({faceGap, std::fabs(g[0]), std::fabs(g[1]), std::fabs(g[2])});
 				covered = faceArea;
 				w.triCovered[k] += faceArea;
@@ -395,12 +403,22 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 			if (!(faceArea > 0))
 				return true;
 			double poly[2][12][2];
+			signed char tag[2][12];
 			int cur = 0;
-			const int cnt = clipByTriangle(fxy, tv, w.triSign[k], poly, cur);
+			const int cnt = clipByTriangle(fxy, tv, w.triSign[k], poly, tag, cur);
+			if (cnt == 0)
+				return true; // (no overlap: nothing covered, no gap)
+			gaps();
 			double area2 = 0;
 			for (int j = 0; j < cnt; ++j) {
-				const double *a = poly[cur][j], *b = poly[cur][(j + 1) % cnt];
+				const double *a = poly[cur][j], *b = poly[cur][j + 1 == cnt ? 0 : j + 1];
 				area2 += a[0] * b[1] - a[1] * b[0];
+				// (at a face corner, the barycentric expression below gives that corner's gap
+				// exactly: its weights come out as exactly 1 and 0)
+				if (tag[cur][j] >= 0) {
+					faceGap = std::max(faceGap, std::fabs(g[size_t(tag[cur][j])]));
+					continue;
+				}
 				const double dx = a[0] - fxy[0], dy = a[1] - fxy[1];
 				const double b1 = (dx * (fxy[5] - fxy[1]) - dy * (fxy[4] - fxy[0])) / det;
 				const double b2 = ((fxy[2] - fxy[0]) * dy - (fxy[3] - fxy[1]) * dx) / det;
