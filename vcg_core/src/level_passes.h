@@ -137,6 +137,10 @@ struct Scratch {
 	/// Topology::faceNormal of the current superface's faces, by position in it (projectionNormal;
 	/// empty above kMaxCachedNormals faces, where they are computed when asked)
 	std::vector<Vec3> sfNormal;
+	/// with sfNormal: the deviations measured in the current pass, by position, until written
+	/// (writeDeviations): the angle, -1 = only its cosine (devCos) known yet, NaN = not measured
+	std::vector<double> devAngle, devCos;
+	int32_t devMeasured = 0; ///< positions measured (devAngle[0 .. devMeasured))
 	std::vector<double> ownDist2;
 	std::vector<uint8_t> covered;
 	// distance tolerance and texture check: each vertex of a superface's faces located once

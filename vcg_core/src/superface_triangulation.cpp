@@ -114,6 +114,24 @@ double faceDist2(const Topology &t, const Vec3 &p, int32_t f)
 	                              t.pos(t.T[3 * f + 2]));
 }
 
+// Does face g face away from n: Topology::faceNormal[g].dot(n) < 0, the same answer? The dot of
+// the unnormalized cross product has the same sign but near 0, where the division by the length
+// could move it by a few ulps of the margin's 1e-9: only there is the normal computed.
+bool facesAway(const Topology &t, int32_t g, const Vec3 &n)
+{
+	if (!t.faceValid[size_t(g)])
+		return false; // (a zero normal)
+	Vec3 c;
+	const double len = faceCross(t.P, t.T, size_t(g), c);
+	const double d = c.dot(n);
+	const double margin = 1e-9 * len * (std::fabs(n[0]) + std::fabs(n[1]) + std::fabs(n[2]));
+	if (d < -margin)
+		return true;
+	if (d > margin)
+		return false;
+	return (c / len).dot(n) < 0; // (= faceNormal[g].dot(n) < 0)
+}
+
 // Normals and centroids of the new triangles (from firstTri); false if one is degenerate.
 bool triangleFrames(const Topology &t, const ChunkOut &o, size_t firstTri, Scratch &w)
 {
@@ -181,26 +199,62 @@ bool projectionNormal(const TriangulationInput &in, int32_t s, Vec3 &N, bool &un
 }
 
 // The measured normal deviation: each input face against the triangle its centroid falls in; a
-// triangle flipped (> 90 deg) or beyond the level's limit fails.
+// triangle flipped (> 90 deg) or beyond the level's limit fails. With the normals cached, the
+// deviations are written by writeDeviations (a pass that is retried never writes them: the retry
+// resets them), and the angle (acos) is only computed now where the cosine is not clearly within
+// the limit.
 bool deviationWithinLimit(const TriangulationInput &in, int32_t s, size_t ntri, Scratch &w,
                           FaceMeasures &m)
 {
 	const Topology &t = in.t;
 	const int32_t fb = in.faces.begin(s);
+	const bool defer = !w.sfNormal.empty();
+	if (defer)
+		w.devAngle.resize(w.sfNormal.size()), w.devCos.resize(w.sfNormal.size());
+	// above this cosine the angle is below min(90, limit) by far more than acos's rounding
+	const double limit = std::min(90.0, in.limits.devLimitDeg);
+	const double clearlyWithin = std::cos(limit * (M_PI / 180)) + 1e-7;
 	for (int32_t i = fb; i < in.faces.end(s); ++i) {
 		const int32_t f = in.faces.face[size_t(i)];
 		const int32_t k = ntri == 1 ? 0 : w.job.queryTri[size_t(i - fb)];
+		if (defer)
+			w.devAngle[size_t(i - fb)] = std::nan(""), w.devMeasured = i - fb;
 		if (k < 0)
 			continue;
-		const double d = angleDeg(sfFaceNormal(in, s, i - fb, w), w.triNormal[size_t(k)]);
-		if (d > 90 || d > in.limits.devLimitDeg)
-			return false;
-		m.dev[size_t(f)] = float(d);
+		const double cosine = sfFaceNormal(in, s, i - fb, w).dot(w.triNormal[size_t(k)]);
+		if (defer && cosine > clearlyWithin) {
+			w.devAngle[size_t(i - fb)] = -1; // (computed when written)
+			w.devCos[size_t(i - fb)] = cosine;
+		} else {
+			const double d = angleDegOfCos(cosine); // (= angleDeg(normal, triangle normal))
+			if (d > 90 || d > in.limits.devLimitDeg)
+				return false;
+			if (defer)
+				w.devAngle[size_t(i - fb)] = d;
+			else
+				m.dev[size_t(f)] = float(d);
+		}
 		w.covered[size_t(k)] = 1;
 		w.ownDist2[size_t(k)] =
 		    std::min(w.ownDist2[size_t(k)], faceDist2(t, w.centroid[size_t(k)], f));
 	}
+	if (defer)
+		w.devMeasured = in.faces.end(s) - fb;
 	return true;
+}
+
+// The deviations deviationWithinLimit measured (deferred) into m.dev: those it would have written.
+void writeDeviations(const TriangulationInput &in, int32_t s, Scratch &w, FaceMeasures &m)
+{
+	const int32_t fb = in.faces.begin(s);
+	for (int32_t i = 0; i < w.devMeasured; ++i) {
+		const double d = w.devAngle[size_t(i)];
+		if (std::isnan(d))
+			continue; // (no triangle over its centroid)
+		m.dev[size_t(in.faces.face[size_t(fb + i)])] =
+		    float(d >= 0 ? d : angleDegOfCos(w.devCos[size_t(i)]));
+	}
+	w.devMeasured = 0;
 }
 
 // A triangle that covers no input face centroid is checked against the faces of the superface
@@ -218,7 +272,7 @@ bool uncoveredFacing(const TriangulationInput &in, int32_t s, const ChunkOut &o,
 				const int32_t f = t.vfFace[size_t(q)];
 				if (in.p.label[size_t(f)] != s)
 					continue;
-				if (t.faceNormal[size_t(f)].dot(w.triNormal[k]) < 0)
+				if (facesAway(t, f, w.triNormal[k]))
 					return false;
 				w.ownDist2[k] = std::min(w.ownDist2[k], faceDist2(t, w.centroid[k], f));
 			}
@@ -244,7 +298,7 @@ bool nearestSurfaceFacing(const Topology &t, const Scratch &w)
 		double away = r * r * (1 - 1e-9);
 		bool anyAway = false;
 		t.grid.forBoxFacingAway(c - Vec3(r, r, r), c + Vec3(r, r, r), &n, [&](int32_t g) {
-			if (t.faceNormal[size_t(g)].dot(n) < 0) {
+			if (facesAway(t, g, n)) {
 				const double d2 = faceDist2(t, c, g);
 				if (d2 < away)
 					away = d2, anyAway = true;
@@ -256,7 +310,7 @@ bool nearestSurfaceFacing(const Topology &t, const Scratch &w)
 		const double ra = std::sqrt(away) * (1 + 1e-9);
 		bool facing = false;
 		t.grid.forBox(c - Vec3(ra, ra, ra), c + Vec3(ra, ra, ra), [&](int32_t g) {
-			if (!facing && t.faceNormal[size_t(g)].dot(n) >= 0)
+			if (!facing && !facesAway(t, g, n)) // (a normal's dot is never NaN)
 				facing = faceDist2(t, c, g) <= away * (1 + 1e-9);
 		});
 		if (!facing)
@@ -299,6 +353,7 @@ Failure triangulateAndCheck(const TriangulationInput &in, int32_t s, const Vec3 
                             Scratch &w, ChunkOut &o, FaceMeasures &m, bool &inside)
 {
 	inside = false;
+	w.devMeasured = 0;
 	if (w.ringVertStart.size() == 2 && w.ringVerts.size() == 3) { // one triangle
 		o.emit(w.ringVerts[0], w.ringVerts[1], w.ringVerts[2], 7, true);
 	} else {
@@ -423,11 +478,14 @@ Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, Chunk
 		bool inside = false; // the failure is one inside vertices can fix
 		const Failure f = triangulateAndCheck(in, s, N, firstTri, w, o, m, inside);
 		if (f == Failure::None) {
+			writeDeviations(in, s, w, m);
 			++o.retriangulated;
 			return f;
 		}
-		if (!inside || pass == kMaxInsertPasses || !insertFarthest(in, s, N, firstTri, w, o))
+		if (!inside || pass == kMaxInsertPasses || !insertFarthest(in, s, N, firstTri, w, o)) {
+			writeDeviations(in, s, w, m); // (what the failed pass measured stays, as it would)
 			return f;
+		}
 		o.truncate(firstTri);
 		resetMeasures(in, s, m);
 	}
