@@ -138,8 +138,9 @@ struct Scratch {
 	/// empty above kMaxCachedNormals faces, where they are computed when asked)
 	std::vector<Vec3> sfNormal;
 	/// with sfNormal: the deviations measured in the current pass, by position, until written
-	/// (writeDeviations): the angle, -1 = only its cosine (devCos) known yet, NaN = not measured
-	std::vector<double> devAngle, devCos;
+	/// (writeDeviations): the angle (>= 0), or minus its cosine (< 0: the angle is not computed
+	/// yet), NaN = not measured
+	std::vector<double> devAngle;
 	int32_t devMeasured = 0; ///< positions measured (devAngle[0 .. devMeasured))
 	std::vector<double> ownDist2;
 	std::vector<uint8_t> covered;

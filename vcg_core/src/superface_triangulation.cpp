@@ -155,8 +155,9 @@ bool triangleFrames(const Topology &t, const ChunkOut &o, size_t firstTri, Scrat
 }
 
 // Above this many faces, a superface's face normals are computed when asked rather than kept in
-// Scratch::sfNormal (24 bytes per face per thread).
-constexpr int32_t kMaxCachedNormals = 1 << 16;
+// Scratch::sfNormal, and its deviations written as they are measured (32 bytes per face per
+// thread).
+constexpr int32_t kMaxCachedNormals = 1 << 18;
 
 // The normal of the face at position i of superface s (Topology::faceNormal, the same bits).
 inline Vec3 sfFaceNormal(const TriangulationInput &in, int32_t s, int32_t i, const Scratch &w)
@@ -210,7 +211,7 @@ bool deviationWithinLimit(const TriangulationInput &in, int32_t s, size_t ntri, 
 	const int32_t fb = in.faces.begin(s);
 	const bool defer = !w.sfNormal.empty();
 	if (defer)
-		w.devAngle.resize(w.sfNormal.size()), w.devCos.resize(w.sfNormal.size());
+		w.devAngle.resize(w.sfNormal.size());
 	// above this cosine the angle is below min(90, limit) by far more than acos's rounding
 	const double limit = std::min(90.0, in.limits.devLimitDeg);
 	const double clearlyWithin = std::cos(limit * (M_PI / 180)) + 1e-7;
@@ -222,9 +223,8 @@ bool deviationWithinLimit(const TriangulationInput &in, int32_t s, size_t ntri, 
 		if (k < 0)
 			continue;
 		const double cosine = sfFaceNormal(in, s, i - fb, w).dot(w.triNormal[size_t(k)]);
-		if (defer && cosine > clearlyWithin) {
-			w.devAngle[size_t(i - fb)] = -1; // (computed when written)
-			w.devCos[size_t(i - fb)] = cosine;
+		if (defer && cosine > clearlyWithin) { // (> 0: its negation marks it)
+			w.devAngle[size_t(i - fb)] = -cosine; // (the angle is computed when written)
 		} else {
 			const double d = angleDegOfCos(cosine); // (= angleDeg(normal, triangle normal))
 			if (d > 90 || d > in.limits.devLimitDeg)
@@ -252,7 +252,7 @@ void writeDeviations(const TriangulationInput &in, int32_t s, Scratch &w, FaceMe
 		if (std::isnan(d))
 			continue; // (no triangle over its centroid)
 		m.dev[size_t(in.faces.face[size_t(fb + i)])] =
-		    float(d >= 0 ? d : angleDegOfCos(w.devCos[size_t(i)]));
+		    float(d >= 0 ? d : angleDegOfCos(-d));
 	}
 	w.devMeasured = 0;
 }
