@@ -203,6 +203,8 @@ struct TriangleGrid {
 
 	int at(double x, int d) const
 	{
+		if (side == 1)
+			return 0;
 		const double c = (x - lo[d]) / cell[d];
 		return c <= 0 ? 0 : c >= side - 1 ? side - 1 : int(c);
 	}
@@ -216,13 +218,24 @@ struct TriangleGrid {
 		for (int d = 0; d < 2; ++d)
 			cell[d] = hi[d] > lo[d] ? (hi[d] - lo[d]) / side : 1.0;
 		w.cellStart.assign(size_t(side) * size_t(side) + 1, 0);
+		if (side == 1) { // (one cell: every triangle, in order)
+			w.cellStart[1] = int32_t(ntri);
+			w.cellTri.resize(ntri);
+			for (size_t k = 0; k < ntri; ++k)
+				w.cellTri[k] = int32_t(k);
+			return;
+		}
+		w.cellRange.resize(4 * ntri); // (each triangle's cells, for both passes)
+		for (size_t k = 0; k < ntri; ++k) {
+			const double *t = &xy[6 * k];
+			int32_t *r = &w.cellRange[4 * k];
+			r[0] = at(std::min({t[0], t[2], t[4]}), 0), r[1] = at(std::max({t[0], t[2], t[4]}), 0);
+			r[2] = at(std::min({t[1], t[3], t[5]}), 1), r[3] = at(std::max({t[1], t[3], t[5]}), 1);
+		}
 		for (int pass = 0; pass < 2; ++pass) {
 			for (size_t k = 0; k < ntri; ++k) {
-				const double *t = &xy[6 * k];
-				const int x0 = at(std::min({t[0], t[2], t[4]}), 0),
-				          x1 = at(std::max({t[0], t[2], t[4]}), 0),
-				          y0 = at(std::min({t[1], t[3], t[5]}), 1),
-				          y1 = at(std::max({t[1], t[3], t[5]}), 1);
+				const int32_t *r = &w.cellRange[4 * k];
+				const int x0 = r[0], x1 = r[1], y0 = r[2], y1 = r[3];
 				for (int y = y0; y <= y1; ++y)
 					for (int x = x0; x <= x1; ++x) {
 						const size_t c = size_t(y) * size_t(side) + size_t(x);
@@ -380,6 +393,7 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 		const double det = orient2(&fxy[0], &fxy[2], &fxy[4]);
 		const double faceArea = 0.5 * std::fabs(det);
 		double covered = 0, faceGap = 0;
+		int32_t located[3]; // (the triangles the check located its corners in)
 		auto overlap = [&](size_t k) {
 			const Vec3 &n = w.triNormal[k];
 			const double nN = w.triNN[k];
@@ -392,8 +406,11 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 					g[c] = (P[c] - q0).dot(n) / nN;
 			};
 			const double *tv[3] = {&w.boundXY[6 * k], &w.boundXY[6 * k + 2], &w.boundXY[6 * k + 4]};
-			if (insideTriangle(&fxy[0], tv) && insideTriangle(&fxy[2], tv) &&
-			    insideTriangle(&fxy[4], tv)) { // the face is above this triangle only
+			// (the corners not located in k first: where one is outside, it most likely is)
+			int order[3] = {0, 1, 2};
+			std::stable_partition(order, order + 3, [&](int c) { return located[c] != int32_t(k); });
+			if (insideTriangle(&fxy[2 * order[0]], tv) && insideTriangle(&fxy[2 * order[1]], tv) &&
+			    insideTriangle(&fxy[2 * order[2]], tv)) { // the face is above this triangle only
 				gaps();
 				faceGap = std::max({faceGap, std::fabs(g[0]), std::fabs(g[1]), std::fabs(g[2])});
 				covered = faceArea;
@@ -430,7 +447,6 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 			return true;
 		};
 		// the triangles its corners are in first; if they cover it, no other can overlap it
-		int32_t located[3];
 		cornersLocated(i, located);
 		newStamp();
 		bool more = true;
