@@ -123,22 +123,22 @@ int clipByTriangle(const double fxy[6], const double *const tv[3], double sign,
 	return cnt;
 }
 
-// Is face i of the superface farther than the tolerance from new triangle k, along N? If not,
-// the largest gap seen is kept in gap[f].
-bool faceTooFar(const TriangulationInput &in, int32_t s, size_t i, int32_t k, const Vec3 &N,
-                size_t firstTri, const Scratch &w, const ChunkOut &o, std::vector<float> &gap)
+// Is face i (f, corners P) of the superface farther than the tolerance from new triangle k,
+// along N? If not, the largest gap seen is kept in gap[f].
+bool faceTooFar(const TriangulationInput &in, int32_t s, size_t i, int32_t f, const Vec3 P[3],
+                int32_t k, const Vec3 &N, size_t firstTri, const Scratch &w, const ChunkOut &o,
+                std::vector<float> &gap)
 {
 	const Topology &t = in.t;
 	const double eps = in.limits.maxDistance;
 	const size_t faces = size_t(in.faces.end(s) - in.faces.begin(s));
 	const size_t ntri = o.tris.size() / 3 - firstTri;
-	const int32_t f = in.faces.face[size_t(in.faces.begin(s)) + i];
 	const Vec3 &n = w.triNormal[size_t(k)];
 	const Vec3 &q = t.pos(o.tris[3 * (firstTri + size_t(k))]);
 	const double nN = n.dot(N);
 	double g[3], cornerMax = 0; // the gap at the face's corners to the triangle's plane
 	for (int c = 0; c < 3; ++c) {
-		g[c] = (t.pos(t.T[3 * f + c]) - q).dot(n) / nN;
+		g[c] = (P[c] - q).dot(n) / nN;
 		cornerMax = std::max(cornerMax, std::fabs(g[c]));
 	}
 	float &kept = gap[size_t(f)];
@@ -522,10 +522,13 @@ Failure distanceCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, si
 		return border;
 	const size_t ntri = o.tris.size() / 3 - firstTri;
 	const size_t faces = size_t(in.faces.end(s) - in.faces.begin(s));
-	auto tooFar = [&](size_t i, int32_t k) {
-		return faceTooFar(in, s, i, k, N, firstTri, w, o, gap);
-	};
+	const Topology &t = in.t;
 	for (size_t i = 0; i < faces; ++i) {
+		const int32_t f = in.faces.face[size_t(in.faces.begin(s)) + i];
+		const Vec3 P[3] = {t.pos(t.T[3 * f]), t.pos(t.T[3 * f + 1]), t.pos(t.T[3 * f + 2])};
+		auto tooFar = [&](size_t, int32_t k) {
+			return faceTooFar(in, s, i, f, P, k, N, firstTri, w, o, gap);
+		};
 		if (ntri == 1) { // (no triangulation was run)
 			if (tooFar(i, 0))
 				return Failure::Distance;

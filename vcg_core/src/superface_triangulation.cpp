@@ -395,8 +395,9 @@ Failure triangulateAndCheck(const TriangulationInput &in, int32_t s, const Vec3 
 // each of its new triangles, the removed inside vertex farthest from it along N (if farther than
 // half the tolerance) as a vertex of its next triangulation, instead of being split: output
 // vertices stay input vertices, and a curved superface keeps its extent. False if none is.
+// `split`: what a split would give, computed on the first call (< 0 before).
 bool insertFarthest(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
-                    Scratch &w, const ChunkOut &o)
+                    Scratch &w, const ChunkOut &o, double &split)
 {
 	const Topology &t = in.t;
 	const size_t ntri = o.tris.size() / 3 - firstTri;
@@ -406,12 +407,13 @@ bool insertFarthest(const TriangulationInput &in, int32_t s, const Vec3 &N, size
 	const size_t faces = size_t(in.faces.end(s) - fb);
 	// what the split would give: the finer level's triangles over these faces (at the finest
 	// level, the input faces)
-	double split = double(faces);
 	const int origin = in.p.origin[size_t(s)];
-	if (in.finerCost && !(origin == -1 || origin >= in.limits.finest)) {
+	if (split < 0 && in.finerCost && !(origin == -1 || origin >= in.limits.finest)) {
 		split = 0;
 		for (size_t i = 0; i < faces; ++i)
 			split += double(in.finerCost->at(size_t(in.faces.face[size_t(fb) + i])));
+	} else if (split < 0) {
+		split = double(faces);
 	}
 	w.farthest.assign(ntri, std::make_pair(in.limits.maxDistance, int32_t(-1)));
 	for (size_t i = 0; i < faces; ++i)
@@ -474,6 +476,7 @@ Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, Chunk
 	if (!keptRingVertices(in, s, w))
 		return Failure::Ring;
 	const size_t firstTri = o.tris.size() / 3;
+	double split = -1; // (insertFarthest's, once per superface)
 	for (int pass = 0;; ++pass) {
 		bool inside = false; // the failure is one inside vertices can fix
 		const Failure f = triangulateAndCheck(in, s, N, firstTri, w, o, m, inside);
@@ -482,7 +485,7 @@ Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, Chunk
 			++o.retriangulated;
 			return f;
 		}
-		if (!inside || pass == kMaxInsertPasses || !insertFarthest(in, s, N, firstTri, w, o)) {
+		if (!inside || pass == kMaxInsertPasses || !insertFarthest(in, s, N, firstTri, w, o, split)) {
 			writeDeviations(in, s, w, m); // (what the failed pass measured stays, as it would)
 			return f;
 		}
