@@ -184,7 +184,7 @@ inline double orient2(const double *a, const double *b, const double *c)
 }
 
 // Is the 2D point p inside (or on) the triangle tv? (of either orientation)
-bool insideTriangle(const double *p, const double *const tv[3])
+inline bool insideTriangle(const double *p, const double *const tv[3])
 {
 	const double d0 = orient2(tv[0], tv[1], p), d1 = orient2(tv[1], tv[2], p),
 	             d2 = orient2(tv[2], tv[0], p);
@@ -407,8 +407,13 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 			};
 			const double *tv[3] = {&w.boundXY[6 * k], &w.boundXY[6 * k + 2], &w.boundXY[6 * k + 4]};
 			// (the corners not located in k first: where one is outside, it most likely is)
-			int order[3] = {0, 1, 2};
-			std::stable_partition(order, order + 3, [&](int c) { return located[c] != int32_t(k); });
+			int order[3], next = 0;
+			for (int c = 0; c < 3; ++c)
+				if (located[c] != int32_t(k))
+					order[next++] = c;
+			for (int c = 0; c < 3; ++c)
+				if (located[c] == int32_t(k))
+					order[next++] = c;
 			if (insideTriangle(&fxy[2 * order[0]], tv) && insideTriangle(&fxy[2 * order[1]], tv) &&
 			    insideTriangle(&fxy[2 * order[2]], tv)) { // the face is above this triangle only
 				gaps();

@@ -117,9 +117,10 @@ double faceDist2(const Topology &t, const Vec3 &p, int32_t f)
 // Does face g face away from n: Topology::faceNormal[g].dot(n) < 0, the same answer? The dot of
 // the unnormalized cross product has the same sign but near 0, where the division by the length
 // could move it by a few ulps of the margin's 1e-9: only there is the normal computed.
-bool facesAway(const Topology &t, int32_t g, const Vec3 &n)
+// `valid`: g is known to be valid (a face of Topology::grid), its flag is not read.
+bool facesAway(const Topology &t, int32_t g, const Vec3 &n, bool valid = false)
 {
-	if (!t.faceValid[size_t(g)])
+	if (!valid && !t.faceValid[size_t(g)])
 		return false; // (a zero normal)
 	Vec3 c;
 	const double len = faceCross(t.P, t.T, size_t(g), c);
@@ -298,7 +299,7 @@ bool nearestSurfaceFacing(const Topology &t, const Scratch &w)
 		double away = r * r * (1 - 1e-9);
 		bool anyAway = false;
 		t.grid.forBoxFacingAway(c - Vec3(r, r, r), c + Vec3(r, r, r), &n, [&](int32_t g) {
-			if (facesAway(t, g, n)) {
+			if (facesAway(t, g, n, true)) { // (the grid holds valid faces only)
 				const double d2 = faceDist2(t, c, g);
 				if (d2 < away)
 					away = d2, anyAway = true;
@@ -310,7 +311,7 @@ bool nearestSurfaceFacing(const Topology &t, const Scratch &w)
 		const double ra = std::sqrt(away) * (1 + 1e-9);
 		bool facing = false;
 		t.grid.forBox(c - Vec3(ra, ra, ra), c + Vec3(ra, ra, ra), [&](int32_t g) {
-			if (!facing && !facesAway(t, g, n)) // (a normal's dot is never NaN)
+			if (!facing && !facesAway(t, g, n, true)) // (a normal's dot is never NaN)
 				facing = faceDist2(t, c, g) <= away * (1 + 1e-9);
 		});
 		if (!facing)
