@@ -61,8 +61,10 @@ bool keptRingVertices(const TriangulationInput &in, int32_t s, Scratch &w)
 
 // The triangulation job of superface s on the plane orthogonal to N (U x V = N): its kept ring
 // vertices, the centroid of each of its faces as a query, and with the distance tolerance or the
-// texture check every vertex of its faces once (see distanceCheck).
-void projectSuperface(const TriangulationInput &in, int32_t s, const Vec3 &N, Scratch &w)
+// texture check every vertex of its faces once (see distanceCheck). `queriesKept`: the queries
+// are those of the previous pass (the same faces, N and origin: only the vertices changed).
+void projectSuperface(const TriangulationInput &in, int32_t s, const Vec3 &N, Scratch &w,
+                      bool queriesKept)
 {
 	const Topology &t = in.t;
 	const int32_t fb = in.faces.begin(s), fe = in.faces.end(s);
@@ -77,6 +79,8 @@ void projectSuperface(const TriangulationInput &in, int32_t s, const Vec3 &N, Sc
 	for (size_t i = 0; i < w.ringVerts.size(); ++i)
 		project(t.pos(w.ringVerts[i]), &w.job.xy[2 * i]);
 	w.job.ringStart = w.ringVertStart;
+	if (queriesKept)
+		return;
 	w.job.queryXY.resize(2 * size_t(fe - fb));
 	for (int32_t i = fb; i < fe; ++i) {
 		const int32_t f = in.faces.face[size_t(i)];
@@ -350,15 +354,16 @@ void resetMeasures(const TriangulationInput &in, int32_t s, FaceMeasures &m)
 // One triangulation of superface s from its kept ring vertices and the inside vertices inserted
 // so far (w.ringVerts after the rings), and its checks. `inside` = the failure is one that
 // inside vertices can fix (an input face deviating or too far, not a border or a fold).
+// `again`: a pass after the first (the queries are projected already).
 Failure triangulateAndCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
-                            Scratch &w, ChunkOut &o, FaceMeasures &m, bool &inside)
+                            Scratch &w, ChunkOut &o, FaceMeasures &m, bool again, bool &inside)
 {
 	inside = false;
 	w.devMeasured = 0;
 	if (w.ringVertStart.size() == 2 && w.ringVerts.size() == 3) { // one triangle
 		o.emit(w.ringVerts[0], w.ringVerts[1], w.ringVerts[2], 7, true);
 	} else {
-		projectSuperface(in, s, N, w);
+		projectSuperface(in, s, N, w, again);
 		if (!triangulateRings(w.job))
 			return Failure::Ring;
 		for (size_t k = 0; k < w.job.tris.size(); k += 3)
@@ -480,7 +485,7 @@ Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, Chunk
 	double split = -1; // (insertFarthest's, once per superface)
 	for (int pass = 0;; ++pass) {
 		bool inside = false; // the failure is one inside vertices can fix
-		const Failure f = triangulateAndCheck(in, s, N, firstTri, w, o, m, inside);
+		const Failure f = triangulateAndCheck(in, s, N, firstTri, w, o, m, pass > 0, inside);
 		if (f == Failure::None) {
 			writeDeviations(in, s, w, m);
 			++o.retriangulated;
