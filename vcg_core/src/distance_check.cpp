@@ -399,7 +399,7 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 			const double nN = w.triNN[k];
 			if (!(std::fabs(nN) > 1e-12))
 				return true; // (seen edge-on: covers nothing in the projection)
-			double g[3]; // the gap of each corner of the face to the triangle's plane, along N
+			double g[3];     // the gap of each corner of the face to the triangle's plane, along N
 			auto gaps = [&] {
 				const Vec3 q0 = t.pos(tri[3 * k]);
 				for (int c = 0; c < 3; ++c)

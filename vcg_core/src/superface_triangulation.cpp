@@ -167,8 +167,9 @@ constexpr int32_t kMaxCachedNormals = 1 << 18;
 // The normal of the face at position i of superface s (Topology::faceNormal, the same bits).
 inline Vec3 sfFaceNormal(const TriangulationInput &in, int32_t s, int32_t i, const Scratch &w)
 {
-	return w.sfNormal.empty() ? in.t.faceNormal[size_t(in.faces.face[size_t(in.faces.begin(s) + i)])]
-	                          : w.sfNormal[size_t(i)];
+	return w.sfNormal.empty()
+	           ? in.t.faceNormal[size_t(in.faces.face[size_t(in.faces.begin(s) + i)])]
+	           : w.sfNormal[size_t(i)];
 }
 
 // The area-weighted normal of superface s (unit), or false if its projection on the plane
@@ -212,7 +213,6 @@ bool projectionNormal(const TriangulationInput &in, int32_t s, Vec3 &N, bool &un
 bool deviationWithinLimit(const TriangulationInput &in, int32_t s, size_t ntri, Scratch &w,
                           FaceMeasures &m)
 {
-	const Topology &t = in.t;
 	const int32_t fb = in.faces.begin(s);
 	const bool defer = !w.sfNormal.empty();
 	if (defer)
@@ -228,7 +228,7 @@ bool deviationWithinLimit(const TriangulationInput &in, int32_t s, size_t ntri, 
 		if (k < 0)
 			continue;
 		const double cosine = sfFaceNormal(in, s, i - fb, w).dot(w.triNormal[size_t(k)]);
-		if (defer && cosine > clearlyWithin) { // (> 0: its negation marks it)
+		if (defer && cosine > clearlyWithin) {    // (> 0: its negation marks it)
 			w.devAngle[size_t(i - fb)] = -cosine; // (the angle is computed when written)
 		} else {
 			const double d = angleDegOfCos(cosine); // (= angleDeg(normal, triangle normal))
@@ -240,12 +240,24 @@ bool deviationWithinLimit(const TriangulationInput &in, int32_t s, size_t ntri, 
 				m.dev[size_t(f)] = float(d);
 		}
 		w.covered[size_t(k)] = 1;
-		w.ownDist2[size_t(k)] =
-		    std::min(w.ownDist2[size_t(k)], faceDist2(t, w.centroid[size_t(k)], f));
 	}
 	if (defer)
 		w.devMeasured = in.faces.end(s) - fb;
 	return true;
+}
+
+// Each triangle's distance to the nearest input face whose centroid it covers (the flip check's
+// radius), once the checks that may still fail before it have passed.
+void ownDistances(const TriangulationInput &in, int32_t s, size_t ntri, Scratch &w)
+{
+	const int32_t fb = in.faces.begin(s);
+	for (int32_t i = fb; i < in.faces.end(s); ++i) {
+		const int32_t k = ntri == 1 ? 0 : w.job.queryTri[size_t(i - fb)];
+		if (k >= 0)
+			w.ownDist2[size_t(k)] =
+			    std::min(w.ownDist2[size_t(k)],
+			             faceDist2(in.t, w.centroid[size_t(k)], in.faces.face[size_t(i)]));
+	}
 }
 
 // The deviations deviationWithinLimit measured (deferred) into m.dev: those it would have written.
@@ -256,8 +268,7 @@ void writeDeviations(const TriangulationInput &in, int32_t s, Scratch &w, FaceMe
 		const double d = w.devAngle[size_t(i)];
 		if (std::isnan(d))
 			continue; // (no triangle over its centroid)
-		m.dev[size_t(in.faces.face[size_t(fb + i)])] =
-		    float(d >= 0 ? d : angleDegOfCos(-d));
+		m.dev[size_t(in.faces.face[size_t(fb + i)])] = float(d >= 0 ? d : angleDegOfCos(-d));
 	}
 	w.devMeasured = 0;
 }
@@ -388,6 +399,7 @@ Failure triangulateAndCheck(const TriangulationInput &in, int32_t s, const Vec3 
 		if (stretched != Failure::None)
 			return stretched;
 	}
+	ownDistances(in, s, o.tris.size() / 3 - firstTri, w);
 	if (!uncoveredFacing(in, s, o, firstTri, w) || !nearestSurfaceFacing(in.t, w))
 		return Failure::Ring;
 	if (in.limits.maxDistance > 0 && // (the level's reported distance: a bound, DESIGN 23)
@@ -491,7 +503,8 @@ Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, Chunk
 			++o.retriangulated;
 			return f;
 		}
-		if (!inside || pass == kMaxInsertPasses || !insertFarthest(in, s, N, firstTri, w, o, split)) {
+		if (!inside || pass == kMaxInsertPasses ||
+		    !insertFarthest(in, s, N, firstTri, w, o, split)) {
 			writeDeviations(in, s, w, m); // (what the failed pass measured stays, as it would)
 			return f;
 		}
