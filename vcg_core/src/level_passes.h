@@ -137,11 +137,9 @@ struct Scratch {
 	/// Topology::faceNormal of the current superface's faces, by position in it (projectionNormal;
 	/// empty above kMaxCachedNormals faces, where they are computed when asked)
 	std::vector<Vec3> sfNormal;
-	/// with sfNormal: the deviations measured in the current pass, by position, until written
-	/// (writeDeviations): the angle (>= 0), or minus its cosine (< 0: the angle is not computed
-	/// yet), NaN = not measured
-	std::vector<double> devAngle;
-	int32_t devMeasured = 0; ///< positions measured (devAngle[0 .. devMeasured))
+	/// with sfNormal: the faces (positions 0 .. devMeasured) whose deviation the current pass
+	/// measured and writeDeviations writes once the pass is final
+	int32_t devMeasured = 0;
 	std::vector<double> ownDist2;
 	std::vector<uint8_t> covered;
 	// distance tolerance and texture check: each vertex of a superface's faces located once

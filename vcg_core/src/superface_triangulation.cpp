@@ -160,7 +160,7 @@ bool triangleFrames(const Topology &t, const ChunkOut &o, size_t firstTri, Scrat
 }
 
 // Above this many faces, a superface's face normals are computed when asked rather than kept in
-// Scratch::sfNormal, and its deviations written as they are measured (32 bytes per face per
+// Scratch::sfNormal, and its deviations written as they are measured (24 bytes per face per
 // thread).
 constexpr int32_t kMaxCachedNormals = 1 << 18;
 
@@ -208,15 +208,13 @@ bool projectionNormal(const TriangulationInput &in, int32_t s, Vec3 &N, bool &un
 // The measured normal deviation: each input face against the triangle its centroid falls in; a
 // triangle flipped (> 90 deg) or beyond the level's limit fails. With the normals cached, the
 // deviations are written by writeDeviations (a pass that is retried never writes them: the retry
-// resets them), and the angle (acos) is only computed now where the cosine is not clearly within
+// resets them), and the angle (acos) is only computed here where the cosine is not clearly within
 // the limit.
 bool deviationWithinLimit(const TriangulationInput &in, int32_t s, size_t ntri, Scratch &w,
                           FaceMeasures &m)
 {
 	const int32_t fb = in.faces.begin(s);
 	const bool defer = !w.sfNormal.empty();
-	if (defer)
-		w.devAngle.resize(w.sfNormal.size());
 	// above this cosine the angle is below min(90, limit) by far more than acos's rounding
 	const double limit = std::min(90.0, in.limits.devLimitDeg);
 	const double clearlyWithin = std::cos(limit * (M_PI / 180)) + 1e-7;
@@ -224,19 +222,15 @@ bool deviationWithinLimit(const TriangulationInput &in, int32_t s, size_t ntri, 
 		const int32_t f = in.faces.face[size_t(i)];
 		const int32_t k = ntri == 1 ? 0 : w.job.queryTri[size_t(i - fb)];
 		if (defer)
-			w.devAngle[size_t(i - fb)] = std::nan(""), w.devMeasured = i - fb;
+			w.devMeasured = i - fb;
 		if (k < 0)
 			continue;
 		const double cosine = sfFaceNormal(in, s, i - fb, w).dot(w.triNormal[size_t(k)]);
-		if (defer && cosine > clearlyWithin) {    // (> 0: its negation marks it)
-			w.devAngle[size_t(i - fb)] = -cosine; // (the angle is computed when written)
-		} else {
+		if (!defer || !(cosine > clearlyWithin)) {
 			const double d = angleDegOfCos(cosine); // (= angleDeg(normal, triangle normal))
 			if (d > 90 || d > in.limits.devLimitDeg)
 				return false;
-			if (defer)
-				w.devAngle[size_t(i - fb)] = d;
-			else
+			if (!defer)
 				m.dev[size_t(f)] = float(d);
 		}
 		w.covered[size_t(k)] = 1;
@@ -261,14 +255,17 @@ void ownDistances(const TriangulationInput &in, int32_t s, size_t ntri, Scratch 
 }
 
 // The deviations deviationWithinLimit measured (deferred) into m.dev: those it would have written.
+// (the same angles from the same normals: the pass's triangles are still those measured)
 void writeDeviations(const TriangulationInput &in, int32_t s, Scratch &w, FaceMeasures &m)
 {
 	const int32_t fb = in.faces.begin(s);
+	const size_t ntri = w.triNormal.size();
 	for (int32_t i = 0; i < w.devMeasured; ++i) {
-		const double d = w.devAngle[size_t(i)];
-		if (std::isnan(d))
+		const int32_t k = ntri == 1 ? 0 : w.job.queryTri[size_t(i)];
+		if (k < 0)
 			continue; // (no triangle over its centroid)
-		m.dev[size_t(in.faces.face[size_t(fb + i)])] = float(d >= 0 ? d : angleDegOfCos(-d));
+		m.dev[size_t(in.faces.face[size_t(fb + i)])] =
+		    float(angleDegOfCos(w.sfNormal[size_t(i)].dot(w.triNormal[size_t(k)])));
 	}
 	w.devMeasured = 0;
 }
