@@ -228,13 +228,15 @@ struct TriangleGrid {
 		w.cellRange.resize(4 * ntri); // (each triangle's cells, for both passes)
 		for (size_t k = 0; k < ntri; ++k) {
 			const double *t = &xy[6 * k];
-			int32_t *r = &w.cellRange[4 * k];
-			r[0] = at(std::min({t[0], t[2], t[4]}), 0), r[1] = at(std::max({t[0], t[2], t[4]}), 0);
-			r[2] = at(std::min({t[1], t[3], t[5]}), 1), r[3] = at(std::max({t[1], t[3], t[5]}), 1);
+			uint8_t *r = &w.cellRange[4 * k]; // (side <= 256)
+			r[0] = uint8_t(at(std::min({t[0], t[2], t[4]}), 0));
+			r[1] = uint8_t(at(std::max({t[0], t[2], t[4]}), 0));
+			r[2] = uint8_t(at(std::min({t[1], t[3], t[5]}), 1));
+			r[3] = uint8_t(at(std::max({t[1], t[3], t[5]}), 1));
 		}
 		for (int pass = 0; pass < 2; ++pass) {
 			for (size_t k = 0; k < ntri; ++k) {
-				const int32_t *r = &w.cellRange[4 * k];
+				const uint8_t *r = &w.cellRange[4 * k];
 				const int x0 = r[0], x1 = r[1], y0 = r[2], y1 = r[3];
 				for (int y = y0; y <= y1; ++y)
 					for (int x = x0; x <= x1; ++x) {
@@ -298,8 +300,7 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 	w.boundXY.resize(6 * ntri);
 	w.triArea.resize(ntri);
 	w.triCovered.assign(ntri, 0.0);
-	// per triangle, once: its 2D bounding box, its orientation for the clipping, n . N
-	w.triBox.resize(4 * ntri);
+	// per triangle, once: its orientation for the clipping, n . N
 	w.triSign.resize(ntri);
 	w.triNN.resize(ntri);
 	for (size_t k = 0; k < ntri; ++k) {
@@ -313,11 +314,8 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 		}
 		const double *xy = &w.boundXY[6 * k];
 		w.triArea[k] = 0.5 * std::fabs(orient2(xy, xy + 2, xy + 4));
-		double *box = &w.triBox[4 * k];
-		box[0] = std::min({xy[0], xy[2], xy[4]}), box[1] = std::max({xy[0], xy[2], xy[4]});
-		box[2] = std::min({xy[1], xy[3], xy[5]}), box[3] = std::max({xy[1], xy[3], xy[5]});
 		const double *const tv[3] = {xy, xy + 2, xy + 4};
-		w.triSign[k] = clipSign(tv);
+		w.triSign[k] = int8_t(clipSign(tv));
 		w.triNN[k] = w.triNormal[k].dot(N);
 	}
 	TriangleGrid grid;
@@ -348,8 +346,11 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 					if (w.triStamp[k] == w.stampNow)
 						continue;
 					w.triStamp[k] = w.stampNow;
-					const double *box = &w.triBox[4 * k];
-					if (box[1] < lo[0] || box[0] > hi[0] || box[3] < lo[1] || box[2] > hi[1])
+					const double *tv = &w.boundXY[6 * k];
+					if (std::max({tv[0], tv[2], tv[4]}) < lo[0] ||
+					    std::min({tv[0], tv[2], tv[4]}) > hi[0] ||
+					    std::max({tv[1], tv[3], tv[5]}) < lo[1] ||
+					    std::min({tv[1], tv[3], tv[5]}) > hi[1])
 						continue;
 					if (!fn(k))
 						return;

@@ -151,8 +151,10 @@ struct Scratch {
 	std::vector<uint8_t> steinerMark; ///< per input vertex (sized on first use)
 	std::vector<std::pair<double, int32_t>> farthest; ///< per new triangle: (gap, vertex)
 	// distance bound (distanceBound): the new triangles in 2D, a grid over them, candidates
-	std::vector<double> boundXY, triArea, triCovered, triBox, triSign, triNN;
-	std::vector<int32_t> cellStart, cellFill, cellTri, cellRange, boundCand;
+	std::vector<double> boundXY, triArea, triCovered, triNN;
+	std::vector<int8_t> triSign;
+	std::vector<int32_t> cellStart, cellFill, cellTri, boundCand;
+	std::vector<uint8_t> cellRange;
 	std::vector<uint32_t> triStamp;
 	uint32_t stampNow = 0;
 	bool inserted(int32_t v) const { return !steinerMark.empty() && steinerMark[size_t(v)]; }
