@@ -67,35 +67,55 @@ Failure bordersWithin(const TriangulationInput &in, int32_t s, std::vector<float
 	return far ? Failure::Deviation : rings ? Failure::None : Failure::Ring;
 }
 
-// Face f (2D corners fxy) clipped by the 2D triangle tv (Sutherland-Hodgman): its corners in
-// poly[cur][0 .. cnt).
-int clipByTriangle(const double fxy[6], const double *const tv[3], double poly[2][12][2], int &cur)
+// The orientation of the 2D triangle tv, as clipByTriangle takes it: 1 or -1.
+double clipSign(const double *const tv[3])
 {
-	int cnt = 3;
-	for (int c = 0; c < 3; ++c)
-		poly[0][c][0] = fxy[2 * c], poly[0][c][1] = fxy[2 * c + 1];
-	double area = 0; // of the triangle, for its orientation
+	double area = 0;
 	for (int e = 0; e < 3; ++e) {
 		const double *a = tv[e], *b = tv[(e + 1) % 3];
 		area += a[0] * b[1] - a[1] * b[0];
 	}
-	const double sign = area >= 0 ? 1.0 : -1.0;
+	return area >= 0 ? 1.0 : -1.0;
+}
+
+// Face f (2D corners fxy) clipped by the 2D triangle tv (Sutherland-Hodgman; sign = clipSign(tv)):
+// its corners in poly[cur][0 .. cnt), tag[cur][j] = c if corner j is the face's corner c as it is
+// (copied, not computed), else -1. Each corner's side of an edge is computed once, and an edge
+// that keeps every corner leaves the polygon as it is (what the copy would give).
+int clipByTriangle(const double fxy[6], const double *const tv[3], double sign,
+                   double poly[2][12][2], signed char tag[2][12], int &cur)
+{
+	int cnt = 3;
+	for (int c = 0; c < 3; ++c)
+		poly[0][c][0] = fxy[2 * c], poly[0][c][1] = fxy[2 * c + 1], tag[0][c] = (signed char)c;
 	cur = 0;
 	for (int e = 0; e < 3 && cnt > 0; ++e) {
-		const double *a = tv[e], *b = tv[(e + 1) % 3];
-		auto side = [&](const double *x) {
-			return sign * ((b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0]));
-		};
+		const double *a = tv[e], *b = tv[e == 2 ? 0 : e + 1];
+		const double ex = b[0] - a[0], ey = b[1] - a[1];
+		const double(*from)[2] = poly[cur];
+		double side[12];
+		bool all = true;
+		for (int j = 0; j < cnt; ++j) {
+			side[j] = sign * (ex * (from[j][1] - a[1]) - ey * (from[j][0] - a[0]));
+			all = all && side[j] >= 0;
+		}
+		if (all)
+			continue;
+		double(*to)[2] = poly[1 - cur];
+		const signed char *fromTag = tag[cur];
+		signed char *toTag = tag[1 - cur];
 		int out = 0;
 		for (int j = 0; j < cnt; ++j) {
-			const double *x = poly[cur][j], *y = poly[cur][(j + 1) % cnt];
-			const double sx = side(x), sy = side(y);
+			const int jn = j + 1 == cnt ? 0 : j + 1;
+			const double *x = from[j], *y = from[jn];
+			const double sx = side[j], sy = side[jn];
 			if (sx >= 0 && out < 12)
-				poly[1 - cur][out][0] = x[0], poly[1 - cur][out++][1] = x[1];
+				toTag[out] = fromTag[j], to[out][0] = x[0], to[out++][1] = x[1];
 			if (((sx >= 0) != (sy >= 0)) && out < 12) {
 				const double u = sx / (sx - sy);
-				poly[1 - cur][out][0] = x[0] + u * (y[0] - x[0]);
-				poly[1 - cur][out++][1] = x[1] + u * (y[1] - x[1]);
+				toTag[out] = -1;
+				to[out][0] = x[0] + u * (y[0] - x[0]);
+				to[out++][1] = x[1] + u * (y[1] - x[1]);
 			}
 		}
 		cnt = out, cur = 1 - cur;
@@ -103,22 +123,22 @@ int clipByTriangle(const double fxy[6], const double *const tv[3], double poly[2
 	return cnt;
 }
 
-// Is face i of the superface farther than the tolerance from new triangle k, along N? If not,
-// the largest gap seen is kept in gap[f].
-bool faceTooFar(const TriangulationInput &in, int32_t s, size_t i, int32_t k, const Vec3 &N,
-                size_t firstTri, const Scratch &w, const ChunkOut &o, std::vector<float> &gap)
+// Is face i (f, corners P) of the superface farther than the tolerance from new triangle k,
+// along N? If not, the largest gap seen is kept in gap[f].
+bool faceTooFar(const TriangulationInput &in, int32_t s, size_t i, int32_t f, const Vec3 P[3],
+                int32_t k, const Vec3 &N, size_t firstTri, const Scratch &w, const ChunkOut &o,
+                std::vector<float> &gap)
 {
 	const Topology &t = in.t;
 	const double eps = in.limits.maxDistance;
 	const size_t faces = size_t(in.faces.end(s) - in.faces.begin(s));
 	const size_t ntri = o.tris.size() / 3 - firstTri;
-	const int32_t f = in.faces.face[size_t(in.faces.begin(s)) + i];
 	const Vec3 &n = w.triNormal[size_t(k)];
 	const Vec3 &q = t.pos(o.tris[3 * (firstTri + size_t(k))]);
 	const double nN = n.dot(N);
 	double g[3], cornerMax = 0; // the gap at the face's corners to the triangle's plane
 	for (int c = 0; c < 3; ++c) {
-		g[c] = (t.pos(t.T[3 * f + c]) - q).dot(n) / nN;
+		g[c] = (P[c] - q).dot(n) / nN;
 		cornerMax = std::max(cornerMax, std::fabs(g[c]));
 	}
 	float &kept = gap[size_t(f)];
@@ -133,11 +153,12 @@ bool faceTooFar(const TriangulationInput &in, int32_t s, size_t i, int32_t k, co
 		fxy[2 * c + 1] = w.job.queryXY[2 * qi + 1];
 	}
 	double poly[2][12][2];
+	signed char tag[2][12];
 	int cur = 0;
 	const int32_t *tv = &w.job.tris[3 * size_t(k)];
 	const double *const txy[3] = {&w.job.xy[2 * size_t(tv[0])], &w.job.xy[2 * size_t(tv[1])],
 	                              &w.job.xy[2 * size_t(tv[2])]};
-	const int cnt = clipByTriangle(fxy, txy, poly, cur);
+	const int cnt = clipByTriangle(fxy, txy, clipSign(txy), poly, tag, cur);
 	// the gap at each corner of the clipped part (barycentric in the face)
 	const double det =
 	    (fxy[2] - fxy[0]) * (fxy[5] - fxy[1]) - (fxy[4] - fxy[0]) * (fxy[3] - fxy[1]);
@@ -163,7 +184,7 @@ inline double orient2(const double *a, const double *b, const double *c)
 }
 
 // Is the 2D point p inside (or on) the triangle tv? (of either orientation)
-bool insideTriangle(const double *p, const double *const tv[3])
+inline bool insideTriangle(const double *p, const double *const tv[3])
 {
 	const double d0 = orient2(tv[0], tv[1], p), d1 = orient2(tv[1], tv[2], p),
 	             d2 = orient2(tv[2], tv[0], p);
@@ -182,6 +203,8 @@ struct TriangleGrid {
 
 	int at(double x, int d) const
 	{
+		if (side == 1)
+			return 0;
 		const double c = (x - lo[d]) / cell[d];
 		return c <= 0 ? 0 : c >= side - 1 ? side - 1 : int(c);
 	}
@@ -195,13 +218,26 @@ struct TriangleGrid {
 		for (int d = 0; d < 2; ++d)
 			cell[d] = hi[d] > lo[d] ? (hi[d] - lo[d]) / side : 1.0;
 		w.cellStart.assign(size_t(side) * size_t(side) + 1, 0);
+		if (side == 1) { // (one cell: every triangle, in order)
+			w.cellStart[1] = int32_t(ntri);
+			w.cellTri.resize(ntri);
+			for (size_t k = 0; k < ntri; ++k)
+				w.cellTri[k] = int32_t(k);
+			return;
+		}
+		w.cellRange.resize(4 * ntri); // (each triangle's cells, for both passes)
+		for (size_t k = 0; k < ntri; ++k) {
+			const double *t = &xy[6 * k];
+			uint8_t *r = &w.cellRange[4 * k]; // (side <= 256)
+			r[0] = uint8_t(at(std::min({t[0], t[2], t[4]}), 0));
+			r[1] = uint8_t(at(std::max({t[0], t[2], t[4]}), 0));
+			r[2] = uint8_t(at(std::min({t[1], t[3], t[5]}), 1));
+			r[3] = uint8_t(at(std::max({t[1], t[3], t[5]}), 1));
+		}
 		for (int pass = 0; pass < 2; ++pass) {
 			for (size_t k = 0; k < ntri; ++k) {
-				const double *t = &xy[6 * k];
-				const int x0 = at(std::min({t[0], t[2], t[4]}), 0),
-				          x1 = at(std::max({t[0], t[2], t[4]}), 0),
-				          y0 = at(std::min({t[1], t[3], t[5]}), 1),
-				          y1 = at(std::max({t[1], t[3], t[5]}), 1);
+				const uint8_t *r = &w.cellRange[4 * k];
+				const int x0 = r[0], x1 = r[1], y0 = r[2], y1 = r[3];
 				for (int y = y0; y <= y1; ++y)
 					for (int x = x0; x <= x1; ++x) {
 						const size_t c = size_t(y) * size_t(side) + size_t(x);
@@ -264,6 +300,9 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 	w.boundXY.resize(6 * ntri);
 	w.triArea.resize(ntri);
 	w.triCovered.assign(ntri, 0.0);
+	// per triangle, once: its orientation for the clipping, n . N
+	w.triSign.resize(ntri);
+	w.triNN.resize(ntri);
 	for (size_t k = 0; k < ntri; ++k) {
 		for (size_t c = 0; c < 3; ++c) {
 			double *xy = &w.boundXY[6 * k + 2 * c];
@@ -275,6 +314,9 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 		}
 		const double *xy = &w.boundXY[6 * k];
 		w.triArea[k] = 0.5 * std::fabs(orient2(xy, xy + 2, xy + 4));
+		const double *const tv[3] = {xy, xy + 2, xy + 4};
+		w.triSign[k] = int8_t(clipSign(tv));
+		w.triNN[k] = w.triNormal[k].dot(N);
 	}
 	TriangleGrid grid;
 	bool gridBuilt = false; // (only faces over several triangles need it)
@@ -352,18 +394,30 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 		const double det = orient2(&fxy[0], &fxy[2], &fxy[4]);
 		const double faceArea = 0.5 * std::fabs(det);
 		double covered = 0, faceGap = 0;
+		int32_t located[3]; // (the triangles the check located its corners in)
 		auto overlap = [&](size_t k) {
 			const Vec3 &n = w.triNormal[k];
-			const double nN = n.dot(N);
+			const double nN = w.triNN[k];
 			if (!(std::fabs(nN) > 1e-12))
 				return true; // (seen edge-on: covers nothing in the projection)
-			const Vec3 q0 = t.pos(tri[3 * k]);
-			double g[3]; // the gap of each corner of the face to the triangle's plane, along N
-			for (int c = 0; c < 3; ++c)
-				g[c] = (P[c] - q0).dot(n) / nN;
+			double g[3];     // the gap of each corner of the face to the triangle's plane, along N
+			auto gaps = [&] {
+				const Vec3 q0 = t.pos(tri[3 * k]);
+				for (int c = 0; c < 3; ++c)
+					g[c] = (P[c] - q0).dot(n) / nN;
+			};
 			const double *tv[3] = {&w.boundXY[6 * k], &w.boundXY[6 * k + 2], &w.boundXY[6 * k + 4]};
-			if (insideTriangle(&fxy[0], tv) && insideTriangle(&fxy[2], tv) &&
-			    insideTriangle(&fxy[4], tv)) { // the face is above this triangle only
+			// (the corners not located in k first: where one is outside, it most likely is)
+			int order[3], next = 0;
+			for (int c = 0; c < 3; ++c)
+				if (located[c] != int32_t(k))
+					order[next++] = c;
+			for (int c = 0; c < 3; ++c)
+				if (located[c] == int32_t(k))
+					order[next++] = c;
+			if (insideTriangle(&fxy[2 * order[0]], tv) && insideTriangle(&fxy[2 * order[1]], tv) &&
+			    insideTriangle(&fxy[2 * order[2]], tv)) { // the face is above this triangle only
+				gaps();
 				faceGap = std::max({faceGap, std::fabs(g[0]), std::fabs(g[1]), std::fabs(g[2])});
 				covered = faceArea;
 				w.triCovered[k] += faceArea;
@@ -372,12 +426,22 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 			if (!(faceArea > 0))
 				return true;
 			double poly[2][12][2];
+			signed char tag[2][12];
 			int cur = 0;
-			const int cnt = clipByTriangle(fxy, tv, poly, cur);
+			const int cnt = clipByTriangle(fxy, tv, w.triSign[k], poly, tag, cur);
+			if (cnt == 0)
+				return true; // (no overlap: nothing covered, no gap)
+			gaps();
 			double area2 = 0;
 			for (int j = 0; j < cnt; ++j) {
-				const double *a = poly[cur][j], *b = poly[cur][(j + 1) % cnt];
+				const double *a = poly[cur][j], *b = poly[cur][j + 1 == cnt ? 0 : j + 1];
 				area2 += a[0] * b[1] - a[1] * b[0];
+				// (at a face corner, the barycentric expression below gives that corner's gap
+				// exactly: its weights come out as exactly 1 and 0)
+				if (tag[cur][j] >= 0) {
+					faceGap = std::max(faceGap, std::fabs(g[size_t(tag[cur][j])]));
+					continue;
+				}
 				const double dx = a[0] - fxy[0], dy = a[1] - fxy[1];
 				const double b1 = (dx * (fxy[5] - fxy[1]) - dy * (fxy[4] - fxy[0])) / det;
 				const double b2 = ((fxy[2] - fxy[0]) * dy - (fxy[3] - fxy[1]) * dx) / det;
@@ -389,7 +453,6 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 			return true;
 		};
 		// the triangles its corners are in first; if they cover it, no other can overlap it
-		int32_t located[3];
 		cornersLocated(i, located);
 		newStamp();
 		bool more = true;
@@ -465,10 +528,13 @@ Failure distanceCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, si
 		return border;
 	const size_t ntri = o.tris.size() / 3 - firstTri;
 	const size_t faces = size_t(in.faces.end(s) - in.faces.begin(s));
-	auto tooFar = [&](size_t i, int32_t k) {
-		return faceTooFar(in, s, i, k, N, firstTri, w, o, gap);
-	};
+	const Topology &t = in.t;
 	for (size_t i = 0; i < faces; ++i) {
+		const int32_t f = in.faces.face[size_t(in.faces.begin(s)) + i];
+		const Vec3 P[3] = {t.pos(t.T[3 * f]), t.pos(t.T[3 * f + 1]), t.pos(t.T[3 * f + 2])};
+		auto tooFar = [&](size_t, int32_t k) {
+			return faceTooFar(in, s, i, f, P, k, N, firstTri, w, o, gap);
+		};
 		if (ntri == 1) { // (no triangulation was run)
 			if (tooFar(i, 0))
 				return Failure::Distance;

@@ -111,12 +111,14 @@ void release(V &v)
 	V().swap(v);
 }
 
-/// Angle between two unit vectors, degrees.
-inline double angleDeg(const Vec3 &a, const Vec3 &b)
+/// The angle whose cosine this is (clamped to [-1, 1]), degrees.
+inline double angleDegOfCos(double cosine)
 {
 	constexpr double kRadToDeg = 57.295779513082320876798;
-	return std::acos(std::max(-1.0, std::min(1.0, a.dot(b)))) * kRadToDeg;
+	return std::acos(std::max(-1.0, std::min(1.0, cosine))) * kRadToDeg;
 }
+/// Angle between two unit vectors, degrees.
+inline double angleDeg(const Vec3 &a, const Vec3 &b) { return angleDegOfCos(a.dot(b)); }
 
 /// Distance from p to the segment a-b.
 inline double pointSegmentDistance(const Vec3 &p, const Vec3 &a, const Vec3 &b)

@@ -134,6 +134,12 @@ struct Scratch {
 	std::vector<float> ringUV; ///< with the texture check: u, v of each ring vertex's corner
 	std::vector<uint64_t> edgesNow, edgesBefore; // directed border edges (see reuse)
 	std::vector<Vec3> triNormal, centroid;
+	/// Topology::faceNormal of the current superface's faces, by position in it (projectionNormal;
+	/// empty above kMaxCachedNormals faces, where they are computed when asked)
+	std::vector<Vec3> sfNormal;
+	/// with sfNormal: the faces (positions 0 .. devMeasured) whose deviation the current pass
+	/// measured and writeDeviations writes once the pass is final
+	int32_t devMeasured = 0;
 	std::vector<double> ownDist2;
 	std::vector<uint8_t> covered;
 	// distance tolerance and texture check: each vertex of a superface's faces located once
@@ -145,8 +151,10 @@ struct Scratch {
 	std::vector<uint8_t> steinerMark; ///< per input vertex (sized on first use)
 	std::vector<std::pair<double, int32_t>> farthest; ///< per new triangle: (gap, vertex)
 	// distance bound (distanceBound): the new triangles in 2D, a grid over them, candidates
-	std::vector<double> boundXY, triArea, triCovered;
+	std::vector<double> boundXY, triArea, triCovered, triNN;
+	std::vector<int8_t> triSign;
 	std::vector<int32_t> cellStart, cellFill, cellTri, boundCand;
+	std::vector<uint8_t> cellRange;
 	std::vector<uint32_t> triStamp;
 	uint32_t stampNow = 0;
 	bool inserted(int32_t v) const { return !steinerMark.empty() && steinerMark[size_t(v)]; }

@@ -61,8 +61,10 @@ bool keptRingVertices(const TriangulationInput &in, int32_t s, Scratch &w)
 
 // The triangulation job of superface s on the plane orthogonal to N (U x V = N): its kept ring
 // vertices, the centroid of each of its faces as a query, and with the distance tolerance or the
-// texture check every vertex of its faces once (see distanceCheck).
-void projectSuperface(const TriangulationInput &in, int32_t s, const Vec3 &N, Scratch &w)
+// texture check every vertex of its faces once (see distanceCheck). `queriesKept`: the queries
+// are those of the previous pass (the same faces, N and origin: only the vertices changed).
+void projectSuperface(const TriangulationInput &in, int32_t s, const Vec3 &N, Scratch &w,
+                      bool queriesKept)
 {
 	const Topology &t = in.t;
 	const int32_t fb = in.faces.begin(s), fe = in.faces.end(s);
@@ -77,6 +79,8 @@ void projectSuperface(const TriangulationInput &in, int32_t s, const Vec3 &N, Sc
 	for (size_t i = 0; i < w.ringVerts.size(); ++i)
 		project(t.pos(w.ringVerts[i]), &w.job.xy[2 * i]);
 	w.job.ringStart = w.ringVertStart;
+	if (queriesKept)
+		return;
 	w.job.queryXY.resize(2 * size_t(fe - fb));
 	for (int32_t i = fb; i < fe; ++i) {
 		const int32_t f = in.faces.face[size_t(i)];
@@ -114,6 +118,25 @@ double faceDist2(const Topology &t, const Vec3 &p, int32_t f)
 	                              t.pos(t.T[3 * f + 2]));
 }
 
+// Does face g face away from n: Topology::faceNormal[g].dot(n) < 0, the same answer? The dot of
+// the unnormalized cross product has the same sign but near 0, where the division by the length
+// could move it by a few ulps of the margin's 1e-9: only there is the normal computed.
+// `valid`: g is known to be valid (a face of Topology::grid), its flag is not read.
+bool facesAway(const Topology &t, int32_t g, const Vec3 &n, bool valid = false)
+{
+	if (!valid && !t.faceValid[size_t(g)])
+		return false; // (a zero normal)
+	Vec3 c;
+	const double len = faceCross(t.P, t.T, size_t(g), c);
+	const double d = c.dot(n);
+	const double margin = 1e-9 * len * (std::fabs(n[0]) + std::fabs(n[1]) + std::fabs(n[2]));
+	if (d < -margin)
+		return true;
+	if (d > margin)
+		return false;
+	return (c / len).dot(n) < 0; // (= faceNormal[g].dot(n) < 0)
+}
+
 // Normals and centroids of the new triangles (from firstTri); false if one is degenerate.
 bool triangleFrames(const Topology &t, const ChunkOut &o, size_t firstTri, Scratch &w)
 {
@@ -136,27 +159,115 @@ bool triangleFrames(const Topology &t, const ChunkOut &o, size_t firstTri, Scrat
 	return true;
 }
 
+// Above this many faces, a superface's face normals are computed when asked rather than kept in
+// Scratch::sfNormal, and its deviations written as they are measured (24 bytes per face per
+// thread).
+constexpr int32_t kMaxCachedNormals = 1 << 18;
+
+// The normal of the face at position i of superface s (Topology::faceNormal, the same bits).
+inline Vec3 sfFaceNormal(const TriangulationInput &in, int32_t s, int32_t i, const Scratch &w)
+{
+	return w.sfNormal.empty()
+	           ? in.t.faceNormal[size_t(in.faces.face[size_t(in.faces.begin(s) + i)])]
+	           : w.sfNormal[size_t(i)];
+}
+
+// The area-weighted normal of superface s (unit), or false if its projection on the plane
+// orthogonal to it folds; sets `unchanged` if every vertex of its faces is kept. Keeps the face
+// normals in w.sfNormal (each computed once per superface, not once per check).
+bool projectionNormal(const TriangulationInput &in, int32_t s, Vec3 &N, bool &unchanged, Scratch &w)
+{
+	const Topology &t = in.t;
+	const int32_t fb = in.faces.begin(s), fe = in.faces.end(s);
+	const bool cache = fe - fb <= kMaxCachedNormals;
+	w.sfNormal.resize(cache ? size_t(fe - fb) : 0);
+	N = Vec3(0, 0, 0);
+	for (int32_t i = fb; i < fe; ++i) {
+		const int32_t f = in.faces.face[size_t(i)];
+		Vec3 n;
+		double area;
+		t.faceNormal.normalAndArea(size_t(f), n, area); // (= faceNormal[f], faceArea[f])
+		N += n * area;
+		if (cache)
+			w.sfNormal[size_t(i - fb)] = n;
+	}
+	if (!(N.Norm() > 0))
+		return false;
+	N.Normalize();
+	unchanged = true;
+	for (int32_t i = fb; i < fe; ++i) {
+		const int32_t f = in.faces.face[size_t(i)];
+		if (!(sfFaceNormal(in, s, i - fb, w).dot(N) > 1e-6))
+			return false; // the projection on the best-fit plane folds
+		for (int k = 0; k < 3; ++k)
+			unchanged = unchanged && in.b.keep[size_t(t.T[3 * f + k])];
+	}
+	return true;
+}
+
 // The measured normal deviation: each input face against the triangle its centroid falls in; a
-// triangle flipped (> 90 deg) or beyond the level's limit fails.
+// triangle flipped (> 90 deg) or beyond the level's limit fails. With the normals cached, the
+// deviations are written by writeDeviations (a pass that is retried never writes them: the retry
+// resets them), and the angle (acos) is only computed here where the cosine is not clearly within
+// the limit.
 bool deviationWithinLimit(const TriangulationInput &in, int32_t s, size_t ntri, Scratch &w,
                           FaceMeasures &m)
 {
-	const Topology &t = in.t;
 	const int32_t fb = in.faces.begin(s);
+	const bool defer = !w.sfNormal.empty();
+	// above this cosine the angle is below min(90, limit) by far more than acos's rounding
+	const double limit = std::min(90.0, in.limits.devLimitDeg);
+	const double clearlyWithin = std::cos(limit * (M_PI / 180)) + 1e-7;
 	for (int32_t i = fb; i < in.faces.end(s); ++i) {
 		const int32_t f = in.faces.face[size_t(i)];
 		const int32_t k = ntri == 1 ? 0 : w.job.queryTri[size_t(i - fb)];
+		if (defer)
+			w.devMeasured = i - fb;
 		if (k < 0)
 			continue;
-		const double d = angleDeg(t.faceNormal[size_t(f)], w.triNormal[size_t(k)]);
-		if (d > 90 || d > in.limits.devLimitDeg)
-			return false;
-		m.dev[size_t(f)] = float(d);
+		const double cosine = sfFaceNormal(in, s, i - fb, w).dot(w.triNormal[size_t(k)]);
+		if (!defer || !(cosine > clearlyWithin)) {
+			const double d = angleDegOfCos(cosine); // (= angleDeg(normal, triangle normal))
+			if (d > 90 || d > in.limits.devLimitDeg)
+				return false;
+			if (!defer)
+				m.dev[size_t(f)] = float(d);
+		}
 		w.covered[size_t(k)] = 1;
-		w.ownDist2[size_t(k)] =
-		    std::min(w.ownDist2[size_t(k)], faceDist2(t, w.centroid[size_t(k)], f));
 	}
+	if (defer)
+		w.devMeasured = in.faces.end(s) - fb;
 	return true;
+}
+
+// Each triangle's distance to the nearest input face whose centroid it covers (the flip check's
+// radius), once the checks that may still fail before it have passed.
+void ownDistances(const TriangulationInput &in, int32_t s, size_t ntri, Scratch &w)
+{
+	const int32_t fb = in.faces.begin(s);
+	for (int32_t i = fb; i < in.faces.end(s); ++i) {
+		const int32_t k = ntri == 1 ? 0 : w.job.queryTri[size_t(i - fb)];
+		if (k >= 0)
+			w.ownDist2[size_t(k)] =
+			    std::min(w.ownDist2[size_t(k)],
+			             faceDist2(in.t, w.centroid[size_t(k)], in.faces.face[size_t(i)]));
+	}
+}
+
+// The deviations deviationWithinLimit measured (deferred) into m.dev: those it would have written.
+// (the same angles from the same normals: the pass's triangles are still those measured)
+void writeDeviations(const TriangulationInput &in, int32_t s, Scratch &w, FaceMeasures &m)
+{
+	const int32_t fb = in.faces.begin(s);
+	const size_t ntri = w.triNormal.size();
+	for (int32_t i = 0; i < w.devMeasured; ++i) {
+		const int32_t k = ntri == 1 ? 0 : w.job.queryTri[size_t(i)];
+		if (k < 0)
+			continue; // (no triangle over its centroid)
+		m.dev[size_t(in.faces.face[size_t(fb + i)])] =
+		    float(angleDegOfCos(w.sfNormal[size_t(i)].dot(w.triNormal[size_t(k)])));
+	}
+	w.devMeasured = 0;
 }
 
 // A triangle that covers no input face centroid is checked against the faces of the superface
@@ -174,7 +285,7 @@ bool uncoveredFacing(const TriangulationInput &in, int32_t s, const ChunkOut &o,
 				const int32_t f = t.vfFace[size_t(q)];
 				if (in.p.label[size_t(f)] != s)
 					continue;
-				if (t.faceNormal[size_t(f)].dot(w.triNormal[k]) < 0)
+				if (facesAway(t, f, w.triNormal[k]))
 					return false;
 				w.ownDist2[k] = std::min(w.ownDist2[k], faceDist2(t, w.centroid[k], f));
 			}
@@ -200,7 +311,7 @@ bool nearestSurfaceFacing(const Topology &t, const Scratch &w)
 		double away = r * r * (1 - 1e-9);
 		bool anyAway = false;
 		t.grid.forBoxFacingAway(c - Vec3(r, r, r), c + Vec3(r, r, r), &n, [&](int32_t g) {
-			if (t.faceNormal[size_t(g)].dot(n) < 0) {
+			if (facesAway(t, g, n, true)) { // (the grid holds valid faces only)
 				const double d2 = faceDist2(t, c, g);
 				if (d2 < away)
 					away = d2, anyAway = true;
@@ -212,35 +323,11 @@ bool nearestSurfaceFacing(const Topology &t, const Scratch &w)
 		const double ra = std::sqrt(away) * (1 + 1e-9);
 		bool facing = false;
 		t.grid.forBox(c - Vec3(ra, ra, ra), c + Vec3(ra, ra, ra), [&](int32_t g) {
-			if (!facing && t.faceNormal[size_t(g)].dot(n) >= 0)
+			if (!facing && !facesAway(t, g, n, true)) // (a normal's dot is never NaN)
 				facing = faceDist2(t, c, g) <= away * (1 + 1e-9);
 		});
 		if (!facing)
 			return false;
-	}
-	return true;
-}
-
-// The area-weighted normal of superface s (unit), or false if its projection on the plane
-// orthogonal to it folds; sets `unchanged` if every vertex of its faces is kept.
-bool projectionNormal(const TriangulationInput &in, int32_t s, Vec3 &N, bool &unchanged)
-{
-	const Topology &t = in.t;
-	N = Vec3(0, 0, 0);
-	for (int32_t i = in.faces.begin(s); i < in.faces.end(s); ++i) {
-		const int32_t f = in.faces.face[size_t(i)];
-		N += t.faceNormal[size_t(f)] * t.faceArea[size_t(f)];
-	}
-	if (!(N.Norm() > 0))
-		return false;
-	N.Normalize();
-	unchanged = true;
-	for (int32_t i = in.faces.begin(s); i < in.faces.end(s); ++i) {
-		const int32_t f = in.faces.face[size_t(i)];
-		if (!(t.faceNormal[size_t(f)].dot(N) > 1e-6))
-			return false; // the projection on the best-fit plane folds
-		for (int k = 0; k < 3; ++k)
-			unchanged = unchanged && in.b.keep[size_t(t.T[3 * f + k])];
 	}
 	return true;
 }
@@ -275,14 +362,16 @@ void resetMeasures(const TriangulationInput &in, int32_t s, FaceMeasures &m)
 // One triangulation of superface s from its kept ring vertices and the inside vertices inserted
 // so far (w.ringVerts after the rings), and its checks. `inside` = the failure is one that
 // inside vertices can fix (an input face deviating or too far, not a border or a fold).
+// `again`: a pass after the first (the queries are projected already).
 Failure triangulateAndCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
-                            Scratch &w, ChunkOut &o, FaceMeasures &m, bool &inside)
+                            Scratch &w, ChunkOut &o, FaceMeasures &m, bool again, bool &inside)
 {
 	inside = false;
+	w.devMeasured = 0;
 	if (w.ringVertStart.size() == 2 && w.ringVerts.size() == 3) { // one triangle
 		o.emit(w.ringVerts[0], w.ringVerts[1], w.ringVerts[2], 7, true);
 	} else {
-		projectSuperface(in, s, N, w);
+		projectSuperface(in, s, N, w, again);
 		if (!triangulateRings(w.job))
 			return Failure::Ring;
 		for (size_t k = 0; k < w.job.tris.size(); k += 3)
@@ -307,6 +396,7 @@ Failure triangulateAndCheck(const TriangulationInput &in, int32_t s, const Vec3 
 		if (stretched != Failure::None)
 			return stretched;
 	}
+	ownDistances(in, s, o.tris.size() / 3 - firstTri, w);
 	if (!uncoveredFacing(in, s, o, firstTri, w) || !nearestSurfaceFacing(in.t, w))
 		return Failure::Ring;
 	if (in.limits.maxDistance > 0 && // (the level's reported distance: a bound, DESIGN 23)
@@ -320,8 +410,9 @@ Failure triangulateAndCheck(const TriangulationInput &in, int32_t s, const Vec3 
 // each of its new triangles, the removed inside vertex farthest from it along N (if farther than
 // half the tolerance) as a vertex of its next triangulation, instead of being split: output
 // vertices stay input vertices, and a curved superface keeps its extent. False if none is.
+// `split`: what a split would give, computed on the first call (< 0 before).
 bool insertFarthest(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
-                    Scratch &w, const ChunkOut &o)
+                    Scratch &w, const ChunkOut &o, double &split)
 {
 	const Topology &t = in.t;
 	const size_t ntri = o.tris.size() / 3 - firstTri;
@@ -331,12 +422,13 @@ bool insertFarthest(const TriangulationInput &in, int32_t s, const Vec3 &N, size
 	const size_t faces = size_t(in.faces.end(s) - fb);
 	// what the split would give: the finer level's triangles over these faces (at the finest
 	// level, the input faces)
-	double split = double(faces);
 	const int origin = in.p.origin[size_t(s)];
-	if (in.finerCost && !(origin == -1 || origin >= in.limits.finest)) {
+	if (split < 0 && in.finerCost && !(origin == -1 || origin >= in.limits.finest)) {
 		split = 0;
 		for (size_t i = 0; i < faces; ++i)
 			split += double(in.finerCost->at(size_t(in.faces.face[size_t(fb) + i])));
+	} else if (split < 0) {
+		split = double(faces);
 	}
 	w.farthest.assign(ntri, std::make_pair(in.limits.maxDistance, int32_t(-1)));
 	for (size_t i = 0; i < faces; ++i)
@@ -387,7 +479,7 @@ Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, Chunk
 	}
 	Vec3 N;
 	bool unchanged = false;
-	if (!projectionNormal(in, s, N, unchanged))
+	if (!projectionNormal(in, s, N, unchanged, w))
 		return Failure::Fold;
 	if (unchanged) {
 		copyInputFaces(in, s, false, o, m);
@@ -399,15 +491,20 @@ Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, Chunk
 	if (!keptRingVertices(in, s, w))
 		return Failure::Ring;
 	const size_t firstTri = o.tris.size() / 3;
+	double split = -1; // (insertFarthest's, once per superface)
 	for (int pass = 0;; ++pass) {
 		bool inside = false; // the failure is one inside vertices can fix
-		const Failure f = triangulateAndCheck(in, s, N, firstTri, w, o, m, inside);
+		const Failure f = triangulateAndCheck(in, s, N, firstTri, w, o, m, pass > 0, inside);
 		if (f == Failure::None) {
+			writeDeviations(in, s, w, m);
 			++o.retriangulated;
 			return f;
 		}
-		if (!inside || pass == kMaxInsertPasses || !insertFarthest(in, s, N, firstTri, w, o))
+		if (!inside || pass == kMaxInsertPasses ||
+		    !insertFarthest(in, s, N, firstTri, w, o, split)) {
+			writeDeviations(in, s, w, m); // (what the failed pass measured stays, as it would)
 			return f;
+		}
 		o.truncate(firstTri);
 		resetMeasures(in, s, m);
 	}
