@@ -491,6 +491,7 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 			best = std::min(best, m);
 			return true;
 		};
+		newStamp(); // (every triangle near this face, whatever the faces before saw)
 		forNear(fxy, convex);
 		if (!(best < HUGE_VAL))
 			for (size_t k = 0; k < ntri; ++k)
