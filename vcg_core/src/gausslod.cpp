@@ -216,8 +216,8 @@ void buildToFaceTarget(const detail::Topology &topo, const Params &params,
                        detail::Partition &merged)
 {
 	using namespace detail;
-	Params trial = params;
-	trial.levelFaces.clear();
+	Params trial = params; // (levelFaces kept: levelLimits then knows these are searches, whose
+	                       // distance bound is reported, not a limit as in levels by error)
 	trial.levelDistances.assign(size_t(params.maxLevel), 1.0); // (only this level's is read)
 	Partition &p = parts[size_t(level)];
 	Partition &start = merged;
