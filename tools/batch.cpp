@@ -131,30 +131,17 @@ void removeParts(const std::string &stemPath)
 		std::remove((dir + "/" + n).c_str());
 }
 
-std::string levelsJson(const Outcome &o)
+// Each level as `gausslod --json` prints it (levelJson), targets included.
+std::string levelsJson(const gausslod::Params &p, const Outcome &o)
 {
 	std::string s = "[";
-	for (size_t i = 0; i < o.levels.size(); ++i) {
-		char buf[160];
-		const gausslod::LevelStats &l = o.levels[i];
-		std::snprintf(buf, sizeof buf,
-		              "{\"level\":%d,\"faces\":%zu,\"vertices\":%zu,\"max_dev_deg\":%.4f,",
-		              l.level, l.faces, l.vertices, l.maxNormalDevDeg);
-		s += (i ? "," : "") + std::string(buf);
-		if (l.maxTexError >= 0) {
-			std::snprintf(buf, sizeof buf, "\"max_tex_error\":%.6g,", l.maxTexError);
-			s += buf;
-		}
-		s += "\"file\":" + jsonString(o.files[i]);
-		if (i < o.materialFiles.size() && !o.materialFiles[i].empty())
-			s += ",\"material_file\":" + jsonString(o.materialFiles[i]);
-		s += "}";
-	}
+	for (size_t i = 0; i < o.levels.size(); ++i)
+		s += (i ? "," : "") + levelJson(p, o, i);
 	return s + "]";
 }
 
-std::string resultJson(const Line &l, const std::string &input, const Outcome &o,
-                       const std::string &signature)
+std::string resultJson(const Line &l, const std::string &input, const gausslod::Params &p,
+                       const Outcome &o, const std::string &signature)
 {
 	char buf[200];
 	std::string s = "{\"line\":" + std::to_string(l.number) + ",\"input\":" + jsonString(input) +
@@ -171,17 +158,22 @@ std::string resultJson(const Line &l, const std::string &input, const Outcome &o
 	for (size_t i = 0; i < o.attributes.size(); ++i)
 		s += (i ? "," : "") + jsonString(o.attributes[i]);
 	s += std::string("],\"superface_colours\":") + (o.superfaceColours ? "true" : "false") + ",";
-	return s + "\"levels\":" + levelsJson(o) + ",\"signature\":" + jsonString(signature) +
+	return s + "\"levels\":" + levelsJson(p, o) + ",\"signature\":" + jsonString(signature) +
 	       ",\"cached\":false}";
 }
+
+// The record's layout, in its signature: a record of an earlier layout (before 2, levels without
+// their --json members) is redone, not printed again as it was.
+const char *const kRecordLayout = "record=2";
 
 // Every option value that changes the files (not threads: the output does not depend on it).
 std::string optionsKey(const Options &o)
 {
-	std::string key = "out=" + o.outputLevels + " by=" + gausslod::levelsByText(o.params) +
+	std::string key = std::string(kRecordLayout) + " out=" + o.outputLevels +
+	                  " by=" + gausslod::levelsByText(o.params) +
 	                  " colour=" + std::to_string(int(o.colour)) +
-	                  " overwrite=" + std::to_string(int(o.overwriteColours)) + " format=" +
-	                  (o.format.empty() ? "input" : o.format);
+	                  " overwrite=" + std::to_string(int(o.overwriteColours)) +
+	                  " format=" + (o.format.empty() ? "input" : o.format);
 	char buf[64];
 	for (const gausslod::ParamSpec &s : gausslod::paramSpecs())
 		if (s.kind != gausslod::ParamKind::LevelList && std::string(s.name) != "threads") {
@@ -290,11 +282,12 @@ int batchMain(const std::vector<std::string> &argsIn)
 			removeParts(stemPath);
 			out = runOne(input, stemPath.substr(0, cut), stemPath.substr(cut + 1), o, {});
 		}
-		const std::string json = resultJson(l, path, out, signature);
+		const std::string json = resultJson(l, path, o.params, out, signature);
 		if (out.code == kOk && !writeAtomically(record, json + "\n"))
 			out.code = kCannotWrite, out.kind = "write_failed",
 			out.message = "cannot write " + record + ": " + std::strerror(errno);
-		std::printf("%s\n", out.code == kOk ? json.c_str() : resultJson(l, path, out, "").c_str());
+		std::printf("%s\n", out.code == kOk ? json.c_str()
+		                                    : resultJson(l, path, o.params, out, "").c_str());
 		std::fflush(stdout);
 		(out.code == kOk ? ok : failed) += 1;
 	}

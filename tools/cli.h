@@ -80,11 +80,12 @@ std::string jsonString(const std::string &s);
 std::string repairsJson(const gausslod::InputStats &in);
 std::string repairsText(const gausslod::InputStats &in);
 
-/// The level's JSON members "attributes" (carried), "superface_colours" and "max_tex_error" (no
-/// braces).
-std::string attributesJson(const Outcome &o, const gausslod::LevelStats &level);
-/// ',"material_file":NAME' of the last level written, if it has one ("" if not).
-std::string materialFileJson(const Outcome &o);
+/// One level's JSON object: `gausslod --json` prints one per line, and batch records list them
+/// (one function, so that the two never differ): the level's figures, its distance bound, the
+/// input repairs, the attributes carried, its target (levels by faces or error; `p` says the
+/// mode), its file and its OBJ material file if any. `i` indexes o.levels, o.files and
+/// o.materialFiles.
+std::string levelJson(const gausslod::Params &p, const Outcome &o, size_t i);
 /// Removes what a killed run left of OUTDIR/<stem>_LOD* (temporary files and folders).
 void removeLevelParts(const std::string &outdir, const std::string &stem);
 

@@ -287,6 +287,9 @@ std::string repairsJson(const gausslod::InputStats &in)
 	return buf;
 }
 
+namespace {
+
+// The level's JSON members "attributes" (carried), "superface_colours" and "max_tex_error".
 std::string attributesJson(const Outcome &o, const gausslod::LevelStats &level)
 {
 	std::string s = "\"attributes\":[";
@@ -299,11 +302,52 @@ std::string attributesJson(const Outcome &o, const gausslod::LevelStats &level)
 	       ",\"max_tex_error\":" + err;
 }
 
-std::string materialFileJson(const Outcome &o)
+// The level's JSON members of levels by target: the mode, the target (null in angle mode),
+// whether it was reached, the tolerance used (% of the diagonal) and the builds it took.
+std::string targetJson(const gausslod::Params &p, const gausslod::LevelStats &s)
 {
-	return o.materialFiles.empty() || o.materialFiles.back().empty()
-	           ? std::string()
-	           : ",\"material_file\":" + jsonString(o.materialFiles.back());
+	char faces[32] = "null", error[32] = "null", buf[320];
+	if (!p.levelFaces.empty())
+		std::snprintf(faces, sizeof faces, "%zu", s.targetFaces);
+	if (s.targetDistance >= 0)
+		std::snprintf(error, sizeof error, "%.6g", 100.0 * s.targetDistance);
+	const char *mode = !p.levelFaces.empty()       ? "faces"
+	                   : !p.levelDistances.empty() ? "error"
+	                                               : "angle";
+	std::snprintf(buf, sizeof buf,
+	              "\"levels_by\":\"%s\",\"target_faces\":%s,\"target_error_pct\":%s,"
+	              "\"target_reached\":%s,\"tolerance_pct\":%.6g,\"trials\":%d",
+	              mode, faces, error, s.targetReached ? "true" : "false", 100.0 * s.tolerance,
+	              s.trials);
+	return buf;
+}
+
+} // namespace
+
+std::string levelJson(const gausslod::Params &p, const Outcome &o, size_t i)
+{
+	const gausslod::LevelStats &s = o.levels[i];
+	// the proven distance bound, % of the diagonal and mesh units
+	char dist[64] = "null,\"distance_bound\":null", buf[1024];
+	if (s.distanceBound >= 0 && o.diagonal > 0)
+		std::snprintf(dist, sizeof dist, "%.4f,\"distance_bound\":%.6g",
+		              100.0 * s.distanceBound / o.diagonal, s.distanceBound);
+	std::snprintf(buf, sizeof buf,
+	              "{\"level\":%d,\"faces\":%zu,\"vertices\":%zu,\"superfaces\":%zu,"
+	              "\"fallbacks\":%zu,\"retriangulated\":%zu,\"bound_deg\":%.4f,"
+	              "\"max_dev_deg\":%.4f,\"mean_dev_deg\":%.4f,\"unmeasured_faces\":%zu,"
+	              "\"seconds\":%.4f,\"seconds_partition\":%.4f,\"seconds_borders\":%.4f,"
+	              "\"seconds_triangulation\":%.4f,\"seconds_checks\":%.4f,\"rounds\":%d,"
+	              "\"reused_finer\":%s,\"distance_bound_pct\":%s,",
+	              s.level, s.faces, s.vertices, s.superfaces, s.fallbacks, s.retriangulated,
+	              s.boundDeg, s.maxNormalDevDeg, s.meanNormalDevDeg, s.unmeasuredFaces, s.seconds,
+	              s.secondsPartition, s.secondsBorders, s.secondsTriangulation, s.secondsChecks,
+	              s.rounds, s.reusedFiner ? "true" : "false", dist);
+	std::string json = buf + repairsJson(s.input) + "," + attributesJson(o, s) + "," +
+	                   targetJson(p, s) + ",\"file\":" + jsonString(o.files[i]);
+	if (i < o.materialFiles.size() && !o.materialFiles[i].empty())
+		json += ",\"material_file\":" + jsonString(o.materialFiles[i]);
+	return json + "}";
 }
 
 std::string repairsText(const gausslod::InputStats &in)
@@ -477,24 +521,6 @@ std::string tableRow(const char *label, const gausslod::LevelStats &s, double di
 	return buf;
 }
 
-// The level's JSON members of levels by target: the mode, the target (null in angle mode),
-// whether it was reached, the tolerance used (% of the diagonal) and the builds it took.
-std::string targetJson(const gausslod::Params &p, const gausslod::LevelStats &s)
-{
-	char faces[32] = "null", error[32] = "null", buf[320];
-	if (!p.levelFaces.empty())
-		std::snprintf(faces, sizeof faces, "%zu", s.targetFaces);
-	if (s.targetDistance >= 0)
-		std::snprintf(error, sizeof error, "%.6g", 100.0 * s.targetDistance);
-	const char *mode = !p.levelFaces.empty() ? "faces" : !p.levelDistances.empty() ? "error" : "angle";
-	std::snprintf(buf, sizeof buf,
-	              "\"levels_by\":\"%s\",\"target_faces\":%s,\"target_error_pct\":%s,"
-	              "\"target_reached\":%s,\"tolerance_pct\":%.6g,\"trials\":%d",
-	              mode, faces, error, s.targetReached ? "true" : "false", 100.0 * s.tolerance,
-	              s.trials);
-	return buf;
-}
-
 } // namespace
 
 int main(int argc, char **argv)
@@ -548,7 +574,7 @@ int main(int argc, char **argv)
 	stem = stem.substr(0, stem.find_last_of('.'));
 	const bool targets = !o.params.levelFaces.empty() || !o.params.levelDistances.empty();
 	const bool distance = o.params.maxDistance > 0 || targets;
-	auto done = [&](const cli::Outcome &sofar, const gausslod::LevelStats &s, const std::string &file) {
+	auto done = [&](const cli::Outcome &sofar, const gausslod::LevelStats &s, const std::string &) {
 		const bool texture = sofar.texCoords;
 		if (sofar.files.size() == 1 && !o.json) {
 			const std::string repairs = cli::repairsText(s.input);
@@ -571,29 +597,12 @@ int main(int argc, char **argv)
 			            sofar.inputVertices, "-", "-", "-", "-", "-", "-",
 			            distance ? "          -" : "", texture ? "          -" : "");
 		}
-		const double diag = sofar.diagonal;
-		if (o.json) {
-			// the proven distance bound, % of the diagonal and mesh units
-			char dist[64] = "null,\"distance_bound\":null";
-			if (s.distanceBound >= 0 && diag > 0)
-				std::snprintf(dist, sizeof dist, "%.4f,\"distance_bound\":%.6g",
-				              100.0 * s.distanceBound / diag, s.distanceBound);
-			std::printf("{\"level\":%d,\"faces\":%zu,\"vertices\":%zu,\"superfaces\":%zu,"
-			            "\"fallbacks\":%zu,\"retriangulated\":%zu,\"bound_deg\":%.4f,"
-			            "\"max_dev_deg\":%.4f,\"mean_dev_deg\":%.4f,\"unmeasured_faces\":%zu,"
-			            "\"seconds\":%.4f,\"seconds_partition\":%.4f,\"seconds_borders\":%.4f,"
-			            "\"seconds_triangulation\":%.4f,\"seconds_checks\":%.4f,\"rounds\":%d,"
-			            "\"reused_finer\":%s,\"distance_bound_pct\":%s,%s,%s,%s,\"file\":%s%s}\n",
-			            s.level, s.faces, s.vertices, s.superfaces, s.fallbacks, s.retriangulated,
-			            s.boundDeg, s.maxNormalDevDeg, s.meanNormalDevDeg, s.unmeasuredFaces,
-			            s.seconds, s.secondsPartition, s.secondsBorders, s.secondsTriangulation,
-			            s.secondsChecks, s.rounds, s.reusedFiner ? "true" : "false", dist,
-			            cli::repairsJson(s.input).c_str(), cli::attributesJson(sofar, s).c_str(),
-			            targetJson(o.params, s).c_str(), cli::jsonString(file).c_str(),
-			            cli::materialFileJson(sofar).c_str());
+		if (o.json) { // (s is sofar's last level, file its file)
+			std::printf("%s\n", cli::levelJson(o.params, sofar, sofar.levels.size() - 1).c_str());
 		} else {
 			const std::string label = "LOD" + std::to_string(s.level);
-			std::printf("%s%s\n", tableRow(label.c_str(), s, diag, distance, texture).c_str(),
+			std::printf("%s%s\n",
+			            tableRow(label.c_str(), s, sofar.diagonal, distance, texture).c_str(),
 			            targets ? targetColumns(s).c_str() : "");
 		}
 		std::fflush(stdout);

@@ -3,8 +3,10 @@
 # SIGKILL half way and restarted, every good file is done once, every bad one reported, nothing
 # lost or half written; a third run redoes nothing; GNU parallel (local jobs and the
 # --sshloginfile form, with ':' = this machine) and the Slurm array script split the manifest
-# into disjoint parts whose outputs are the same files. (Levels as binary PLY, --format ply; OBJ
-# levels with their material files in batch: test_cli_attributes.sh.)
+# into disjoint parts whose outputs are the same files; with --levels-by faces or error on a
+# manifest line, each level of the record carries what `gausslod --json` prints for it (target,
+# whether reached, tolerance, trials). (Levels as binary PLY, --format ply; OBJ levels with their
+# material files in batch: test_cli_attributes.sh.)
 # usage: test_batch.sh GAUSSLOD DATA_DIR WORK_DIR SLURM_SCRIPT
 set -uo pipefail
 tool=$1 data=$(cd "$2" && pwd) work=$3 slurm=$4
@@ -160,6 +162,70 @@ for k in range(5):
     want = [i + 2 for i in range(len(data)) if i % 5 == k]  # manifest line numbers (a comment first)
     assert lines == want, (k, lines[:5], want[:5])
 PY
+
+# --- 5. levels by target: each level of a record is what `gausslod --json` prints for it -----------
+# (levels_by, target_faces, target_error_pct, target_reached, tolerance_pct, trials and the rest)
+mkdir -p "$work/tgt"
+ln -s "$data/fandisk.off" "$work/tgt/fandisk.off"; ln -s "$data/cow.off" "$work/tgt/cow.off"
+ln -s "$data/joint.off" "$work/tgt/joint.off"
+printf '%s\n' "fandisk.off --levels-by faces:50%,25%" "cow.off --levels-by error:0.05%,0.2%" "joint.off" \
+  >"$work/tgt/manifest.txt"
+"$tool" batch --threads 1 --format ply "$work/tgt/manifest.txt" "$work/tgt/out" >"$work/tgt1.jsonl" 2>/dev/null ||
+  fail "levels by target: batch exit $?"
+"$tool" batch --threads 1 --format ply "$work/tgt/manifest.txt" "$work/tgt/out" >"$work/tgt2.jsonl" 2>/dev/null ||
+  fail "levels by target: batch again exit $?"
+"$tool" --threads 1 --format ply --json --levels-by faces:50%,25% "$work/tgt/fandisk.off" "$work/tgt/single" \
+  >"$work/tgt_fandisk.jsonl" 2>/dev/null || fail "fandisk --json: exit $?"
+"$tool" --threads 1 --format ply --json --levels-by error:0.05%,0.2% "$work/tgt/cow.off" "$work/tgt/single" \
+  >"$work/tgt_cow.jsonl" 2>/dev/null || fail "cow --json: exit $?"
+"$tool" --threads 1 --format ply --json "$work/tgt/joint.off" "$work/tgt/single" \
+  >"$work/tgt_joint.jsonl" 2>/dev/null || fail "joint --json: exit $?"
+if python3 - "$work" <<'PY'
+import json, sys
+work = sys.argv[1]
+run1 = [json.loads(l) for l in open(f'{work}/tgt1.jsonl')]
+run2 = [json.loads(l) for l in open(f'{work}/tgt2.jsonl')]
+stored = [json.loads(open(f'{work}/tgt/out/{n}.gausslod.json').read()) for n in ('fandisk', 'cow', 'joint')]
+assert [r['status'] for r in run1] == ['ok'] * 3, run1
+assert [r['cached'] for r in run2] == [True] * 3, run2
+target = ('levels_by', 'target_faces', 'target_error_pct', 'target_reached', 'tolerance_pct', 'trials')
+timing = ('seconds', 'seconds_partition', 'seconds_borders', 'seconds_triangulation', 'seconds_checks')
+for recs in (run1, run2, stored):
+    fandisk, cow, joint = recs
+    # faces:50%,25% of fandisk's 12946 faces: LOD1 6473, LOD0 3236, both reachable (test_cli_targets.sh)
+    want = {1: 12946 * 50 // 100, 0: 12946 * 25 // 100}
+    assert fandisk['faces'] == 12946 and [l['level'] for l in fandisk['levels']] == [1, 0], fandisk
+    for l in fandisk['levels']:
+        assert all(k in l for k in target), l
+        assert l['levels_by'] == 'faces' and l['target_error_pct'] is None, l
+        assert l['target_faces'] == want[l['level']] and l['target_reached'] is True, l
+        assert 0 < l['faces'] <= l['target_faces'], l
+        assert l['tolerance_pct'] > 0 and 1 <= l['trials'] <= 11, l
+    # error:0.05%,0.2% of the cow: LOD1 0.05 %, LOD0 0.2 %, each within its tolerance
+    want = {1: 0.05, 0: 0.2}
+    assert [l['level'] for l in cow['levels']] == [1, 0], cow
+    for l in cow['levels']:
+        assert all(k in l for k in target), l
+        assert l['levels_by'] == 'error' and l['target_faces'] is None, l
+        assert abs(l['target_error_pct'] - want[l['level']]) < 1e-9, l
+        assert l['target_reached'] is True and l['trials'] == 1, l
+        assert 0 < l['distance_bound_pct'] <= l['target_error_pct'] + 1e-4, l
+    # angle (the default): the target members are there, null
+    assert len(joint['levels']) == 5, joint
+    for l in joint['levels']:
+        assert l['levels_by'] == 'angle' and l['target_faces'] is None and l['target_error_pct'] is None, l
+    # the very members and values of the single-file --json lines (but times and file names)
+    for rec, name in ((fandisk, 'fandisk'), (cow, 'cow'), (joint, 'joint')):
+        single = [json.loads(l) for l in open(f'{work}/tgt_{name}.jsonl')]
+        assert len(single) == len(rec['levels']), (name, single)
+        for a, b in zip(rec['levels'], single):
+            assert list(a) == list(b), (name, list(a), list(b))
+            for k in a:
+                assert k in timing or k == 'file' or a[k] == b[k], (name, a['level'], k, a[k], b[k])
+print('levels by target: 3 inputs, records as the --json lines (printed, cached, stored)')
+PY
+then pass "levels by target: records carry the --json level members (targets, tolerance, trials)"
+else fail "levels by target: batch records (above)"; fi
 
 echo "test_batch: $failures failure(s)"
 [ $failures -eq 0 ]
