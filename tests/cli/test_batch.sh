@@ -8,12 +8,9 @@
 # whether reached, tolerance, trials). (Levels as binary PLY, --format ply; OBJ levels with their
 # material files in batch: test_cli_attributes.sh.)
 # usage: test_batch.sh GAUSSLOD DATA_DIR WORK_DIR SLURM_SCRIPT
-set -uo pipefail
+. "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 tool=$1 data=$(cd "$2" && pwd) work=$3 slurm=$4
-rm -rf "$work"; mkdir -p "$work/in/sub"
-failures=0
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-pass() { echo "ok: $*"; }
+fresh_work "$work" in/sub
 
 # --- 300 good inputs (links to 10 of Debian's small CGAL models), 20 bad ones ------------------
 models=(joint pig helmet anchor rotor eight nefertiti dragknob part blob)
@@ -166,20 +163,20 @@ PY
 # --- 5. levels by target: each level of a record is what `gausslod --json` prints for it -----------
 # (levels_by, target_faces, target_error_pct, target_reached, tolerance_pct, trials and the rest)
 mkdir -p "$work/tgt"
-ln -s "$data/fandisk.off" "$work/tgt/fandisk.off"; ln -s "$data/cow.off" "$work/tgt/cow.off"
-ln -s "$data/joint.off" "$work/tgt/joint.off"
-printf '%s\n' "fandisk.off --levels-by faces:50%,25%" "cow.off --levels-by error:0.05%,0.2%" "joint.off" \
-  >"$work/tgt/manifest.txt"
-"$tool" batch --threads 1 --format ply "$work/tgt/manifest.txt" "$work/tgt/out" >"$work/tgt1.jsonl" 2>/dev/null ||
-  fail "levels by target: batch exit $?"
-"$tool" batch --threads 1 --format ply "$work/tgt/manifest.txt" "$work/tgt/out" >"$work/tgt2.jsonl" 2>/dev/null ||
-  fail "levels by target: batch again exit $?"
-"$tool" --threads 1 --format ply --json --levels-by faces:50%,25% "$work/tgt/fandisk.off" "$work/tgt/single" \
-  >"$work/tgt_fandisk.jsonl" 2>/dev/null || fail "fandisk --json: exit $?"
-"$tool" --threads 1 --format ply --json --levels-by error:0.05%,0.2% "$work/tgt/cow.off" "$work/tgt/single" \
-  >"$work/tgt_cow.jsonl" 2>/dev/null || fail "cow --json: exit $?"
-"$tool" --threads 1 --format ply --json "$work/tgt/joint.off" "$work/tgt/single" \
-  >"$work/tgt_joint.jsonl" 2>/dev/null || fail "joint --json: exit $?"
+targets=("fandisk --levels-by faces:50%,25%" "cow --levels-by error:0.05%,0.2%" joint) # name options
+: >"$work/tgt/manifest.txt"
+for t in "${targets[@]}"; do
+  read -r name opts <<<"$t"
+  ln -s "$data/$name.off" "$work/tgt/$name.off"
+  echo "$name.off $opts" >>"$work/tgt/manifest.txt"
+  # shellcheck disable=SC2086 # (opts: several words)
+  "$tool" --threads 1 --format ply --json $opts "$work/tgt/$name.off" "$work/tgt/single" \
+    >"$work/tgt_$name.jsonl" 2>/dev/null || fail "$name --json: exit $?"
+done
+for run in 1 2; do
+  "$tool" batch --threads 1 --format ply "$work/tgt/manifest.txt" "$work/tgt/out" >"$work/tgt$run.jsonl" 2>/dev/null ||
+    fail "levels by target: batch run $run: exit $?"
+done
 if python3 - "$work" <<'PY'
 import json, sys
 work = sys.argv[1]
@@ -227,5 +224,4 @@ PY
 then pass "levels by target: records carry the --json level members (targets, tolerance, trials)"
 else fail "levels by target: batch records (above)"; fi
 
-echo "test_batch: $failures failure(s)"
-[ $failures -eq 0 ]
+finish test_batch

@@ -4,15 +4,9 @@
 # (Levels are read here as binary PLY: --format ply. The default format, which follows the input,
 # and the attributes levels carry: test_cli_attributes.sh.)
 # usage: test_cli.sh GAUSSLOD DATA_DIR WORK_DIR
-set -uo pipefail
+. "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 tool=$1 data=$2 work=$3
-rm -rf "$work"; mkdir -p "$work"
-failures=0
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-pass() { echo "ok: $*"; }
-
-# faces of a PLY file from its header
-ply_faces() { LC_ALL=C awk '$1 == "element" && $2 == "face" { print $3; exit }' "$1"; }
+fresh_work "$work"
 
 # 1. cow, defaults: 5 files, the table's faces agree with the files, counts never grow
 "$tool" --format ply "$data/cow.off" "$work/cow" >"$work/cow.txt" 2>&1; rc=$?
@@ -133,5 +127,4 @@ for l in 0 1 2; do cmp -s "$work/names_new/fandisk_LOD$l.ply" "$work/names_old/f
   fail "new option names and earlier spellings differ: $(ls "$work/names_new" "$work/names_old")"
 expect bad_bool 2 "needs true or false" --across-cells maybe "$data/cow.off" "$work/x"
 
-echo "test_cli: $failures failure(s)"
-[ $failures -eq 0 ]
+finish test_cli

@@ -6,13 +6,10 @@
 # resolve from wherever the levels are written; superfaces are coloured only where the input has
 # no colour of its own; files without attributes keep the lean writer; batch lists the files.
 # usage: test_cli_attributes.sh GAUSSLOD MESH_FACTS ASSIMP_MODELS CGAL_DATA WORK_DIR
-set -uo pipefail
+. "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 tool=$1 facts=$2 models=$3 data=$4 work=$5
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
-rm -rf "$work"; mkdir -p "$work/in"
-failures=0
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-pass() { echo "ok: $*"; }
+fresh_work "$work" in
 obj=$models/OBJ ply=$models/PLY
 
 # run NAME ARGS...: the tool with --json, lines in $work/NAME.jsonl
@@ -201,5 +198,4 @@ assert not left, left
 PY
 then pass "batch: records list the level and material files in each input's format"; else fail "batch records (above)"; fi
 
-echo "test_cli_attributes: $failures failure(s)"
-[ $failures -eq 0 ]
+finish test_cli_attributes

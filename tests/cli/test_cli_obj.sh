@@ -3,11 +3,9 @@
 # vcg_core/gausslod/obj_import.h, skipped every face using the first vertex) and refuses a broken
 # one with a message.
 # usage: test_cli_obj.sh GAUSSLOD OBJ_DIR WORK_DIR
-set -uo pipefail
+. "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 tool=$1 objdir=$2 work=$3
-rm -rf "$work"; mkdir -p "$work"
-failures=0
-check() { if eval "$1"; then echo "ok: $2"; else echo "FAIL: $2" >&2; failures=$((failures + 1)); fi; }
+fresh_work "$work"
 input_faces() { "$tool" "$1" "$work/$(basename "$1" .obj)" 2>&1 | awk '$1 == "input" && $2 ~ /^[0-9]+$/ { print $2 }'; }
 
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$work/triangle.obj"
@@ -18,5 +16,4 @@ n=$(input_faces "$objdir/regr01.obj"); check '[ "$n" = 2710 ]' "regr01.obj: 2710
 rc=$?
 check '[ $rc -ne 0 ] && grep -q "vertex .12. but 8 vertices" "$work/malformed.log"' \
   "malformed.obj: refused (exit $rc) naming the bad index"
-[ $failures -eq 0 ] || { echo "$failures check(s) failed"; exit 1; }
-echo "all checks passed"
+finish test_cli_obj

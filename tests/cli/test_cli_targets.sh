@@ -4,13 +4,9 @@
 # reached, an out-of-reach budget is reported (not hidden), the output does not depend on the
 # thread count, "angle" is the default, and bad lists give exit code 2 and a reason.
 # usage: test_cli_targets.sh GAUSSLOD DATA_DIR WORK_DIR
-set -uo pipefail
+. "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 tool=$1 data=$2 work=$3
-rm -rf "$work"; mkdir -p "$work"
-failures=0
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-pass() { echo "ok: $*"; }
-ply_faces() { LC_ALL=C awk '$1 == "element" && $2 == "face" { print $3; exit }' "$1"; }
+fresh_work "$work"
 
 # 1. fandisk by face percentages: one file per budget, each within it, as JSON says
 "$tool" --format ply --json --levels-by faces:50%,25%,10%,5%,2% "$data/fandisk.off" "$work/pct" \
@@ -109,5 +105,4 @@ expect duplicate "is given twice" --levels-by faces:50%,25%,50%
 expect max_level "--max-level 5 disagrees" --levels-by faces:50%,25% --max-level 5
 expect no_value "is not a mode" --levels-by # (takes the input name as its list)
 
-echo "test_cli_targets: $failures failure(s)"
-[ $failures -eq 0 ]
+finish test_cli_targets

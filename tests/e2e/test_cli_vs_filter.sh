@@ -4,12 +4,9 @@
 # on import, the tool welds them itself) and its welded copy; an OBJ with n-gons.
 # The tool writes its levels as PLY here (--format ply), as the runner saves the filter's.
 # usage: test_cli_vs_filter.sh RUNNER GAUSSLOD ASSIMP_MODELS WORK_DIR   (GAUSSLOD_MESHLAB_PREFIX set)
-set -uo pipefail
+. "$(dirname "${BASH_SOURCE[0]}")/../cli/common.sh"
 runner=$1 tool=$2 models=$3 work=$4
-rm -rf "$work"; mkdir -p "$work"
-failures=0
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-pass() { echo "ok: $*"; }
+fresh_work "$work"
 
 # the triangles of two sets of PLY files, as coordinates, compared as multisets (the tool writes
 # binary PLY, MeshLab its own layout; vertex and face order may differ)
@@ -101,5 +98,4 @@ fi
 # split polygons with GLU's tessellator)
 compare obj_ngons "$models/OBJ/concave_polygon.obj"
 
-echo "test_cli_vs_filter: $failures failure(s)"
-[ $failures -eq 0 ]
+finish test_cli_vs_filter

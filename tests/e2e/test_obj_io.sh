@@ -4,15 +4,10 @@
 # n-gons, export and re-import, a broken file; and Debian's own meshlabserver, which must still
 # behave as it does without our package.
 # usage: test_obj_io.sh MESHLAB_PREFIX RUNNER OBJ_DIR WORK_DIR
-set -uo pipefail
-
+. "$(dirname "${BASH_SOURCE[0]}")/../cli/common.sh"
 prefix=$1 runner=$2 objdir=$3 work=$4
-rm -rf "$work"; mkdir -p "$work/config" "$work/runtime"; chmod 700 "$work/runtime"
+fresh_work "$work" config runtime; chmod 700 "$work/runtime"
 export XDG_CONFIG_HOME=$work/config XDG_RUNTIME_DIR=$work/runtime
-failures=0
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-pass() { echo "ok: $*"; }
-check() { if eval "$1"; then pass "$2"; else fail "$2"; fi; }
 
 # server NAME BINARY ARGS...: meshlabserver under xvfb-run, output in $work/NAME.log, sets $rc
 server() {
@@ -165,5 +160,4 @@ else
     "system meshlabserver without our package: unchanged (aborts at import_obj.h:640, exit $rc)"
 fi
 
-if [ $failures -ne 0 ]; then echo "$failures check(s) failed"; exit 1; fi
-echo "all checks passed"
+finish test_obj_io

@@ -2,13 +2,9 @@
 # End to end: meshlab_scripts/run_gausslod.sh drives the real meshlabserver (private prefix holding
 # the built plugin) on real and on broken inputs.
 # usage: test_run_gausslod.sh RUNNER DATA_DIR WORK_DIR   (GAUSSLOD_MESHLAB_PREFIX set by CTest)
-set -uo pipefail
-
+. "$(dirname "${BASH_SOURCE[0]}")/../cli/common.sh"
 runner=$1 data=$2 work=$3
-rm -rf "$work"; mkdir -p "$work"
-failures=0
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-pass() { echo "ok: $*"; }
+fresh_work "$work"
 
 # run NAME ARGS...: runs the runner, keeps stdout+stderr in $work/NAME.log, sets $rc
 run() {
@@ -140,5 +136,4 @@ sed 's/name="levelsBy" value="[^"]*"/name="levelsBy" value="faces:50%,50%"/' \
 run bad_targets "$data/cow.off" "$work/bad_targets" "$work/bad_targets.mlx"
 expect_failure bad_targets "GaussLOD failed: Levels by (levelsBy): the target 50% is given twice"
 
-if [ $failures -ne 0 ]; then echo "$failures check(s) failed"; exit 1; fi
-echo "all checks passed"
+finish test_run_gausslod
