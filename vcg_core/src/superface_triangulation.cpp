@@ -368,6 +368,7 @@ Failure triangulateAndCheck(const TriangulationInput &in, int32_t s, const Vec3 
 {
 	inside = false;
 	w.devMeasured = 0;
+	w.farCorner.clear(); // (distanceCheck's, for this pass only)
 	if (w.ringVertStart.size() == 2 && w.ringVerts.size() == 3) { // one triangle
 		o.emit(w.ringVerts[0], w.ringVerts[1], w.ringVerts[2], 7, true);
 	} else {
@@ -441,11 +442,17 @@ bool insertFarthest(const TriangulationInput &in, int32_t s, const Vec3 &N, size
 				continue;
 			const Vec3 &n = w.triNormal[size_t(k)];
 			const Vec3 q = t.pos(o.tris[3 * (firstTri + size_t(k))]);
-			const double gap = std::fabs((t.pos(v) - q).dot(n) / n.dot(N));
+			const double gap = std::fabs((t.pos(v) - q).dot(n) / checkDivisor(in.limits, n, N));
 			auto &best = w.farthest[size_t(k)];
 			if (gap > best.first || (gap == best.first && best.second >= 0 && v < best.second))
 				best = std::make_pair(gap, v);
 		}
+	// a triangle too far from a face but from none of the vertices under it: a corner of that
+	// face (distanceCheck's)
+	if (w.farCorner.size() == ntri)
+		for (size_t k = 0; k < ntri; ++k)
+			if (w.farthest[k].second < 0 && w.farCorner[k].second >= 0)
+				w.farthest[k] = w.farCorner[k];
 	const size_t before = w.ringVerts.size();
 	for (const auto &best : w.farthest) {
 		const int32_t v = best.second;
