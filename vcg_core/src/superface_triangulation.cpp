@@ -33,6 +33,28 @@ void copyInputFaces(const TriangulationInput &in, int32_t s, bool frozen, ChunkO
 	}
 }
 
+// w.job.same for w.ringVerts: a vertex met again on the rings (the superface's border touches
+// itself there) is the vertex of its first position. (w.vertQuery, -1 between superfaces, marks
+// the vertices seen here.)
+void sameRingVertices(const Topology &t, Scratch &w)
+{
+	w.job.same.clear();
+	if (w.vertQuery.size() != t.nV)
+		w.vertQuery.assign(t.nV, -1);
+	for (size_t i = 0; i < w.ringVerts.size(); ++i) {
+		int32_t &seen = w.vertQuery[size_t(w.ringVerts[i])];
+		if (seen < 0) {
+			seen = int32_t(i);
+			continue;
+		}
+		if (w.job.same.empty())
+			w.job.same.assign(w.ringVerts.size(), -1);
+		w.job.same[i] = seen;
+	}
+	for (const int32_t v : w.ringVerts)
+		w.vertQuery[size_t(v)] = -1;
+}
+
 // The kept vertices of superface s's rings, ring by ring; false if a ring keeps fewer than 3.
 bool keptRingVertices(const TriangulationInput &in, int32_t s, Scratch &w)
 {
@@ -56,6 +78,7 @@ bool keptRingVertices(const TriangulationInput &in, int32_t s, Scratch &w)
 			return false;
 		w.ringVertStart.push_back(int32_t(w.ringVerts.size()));
 	}
+	sameRingVertices(in.t, w);
 	return w.ringVertStart.size() >= 2;
 }
 
