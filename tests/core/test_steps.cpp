@@ -191,6 +191,44 @@ TEST(Retriangulation, a_ring_projecting_onto_one_line_is_refused_and_a_square_is
 	EXPECT_GE(square.queryTri[0], 0);
 }
 
+// Area of a job's triangles (CCW triangles count positive).
+double trianglesArea(const detail::TriangulationJob &job)
+{
+	double area = 0;
+	for (size_t k = 0; k < job.tris.size(); k += 3) {
+		const double *a = &job.xy[2 * size_t(job.tris[k])], *b = &job.xy[2 * size_t(job.tris[k + 1])],
+		             *c = &job.xy[2 * size_t(job.tris[k + 2])];
+		area += 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+	}
+	return area;
+}
+
+TEST(Retriangulation, a_border_touching_itself_at_a_vertex_is_one_vertex_when_job_same_says_so)
+{
+	// a square with a triangular hole whose corner is the square's corner 0 (point 4 = point 0)
+	detail::TriangulationJob hole;
+	hole.xy = {0, 0, 4, 0, 4, 4, 0, 4, 0, 0, 1, 2, 2, 1};
+	hole.ringStart = {0, 4, 7};
+	detail::TriangulationJob refused = hole;
+	EXPECT_FALSE(detail::triangulateRings(refused)); // (two ring vertices at one point)
+	hole.same = {-1, -1, -1, -1, 0, -1, -1};
+	ASSERT_TRUE(detail::triangulateRings(hole));
+	EXPECT_NEAR(trianglesArea(hole), 16.0 - 1.5, 1e-12);
+	for (const int32_t v : hole.tris)
+		EXPECT_NE(v, 4); // (the vertex is point 0's)
+	// one ring visiting its vertex 0 twice: two lobes meeting there, 2 + 2 in area
+	detail::TriangulationJob lobes;
+	lobes.xy = {0, 0, 2, -1, 2, 1, 0, 0, -2, 1, -2, -1};
+	lobes.ringStart = {0, 6};
+	lobes.same = {-1, -1, -1, 0, -1, -1};
+	ASSERT_TRUE(detail::triangulateRings(lobes));
+	EXPECT_EQ(lobes.tris.size(), 6u);
+	EXPECT_NEAR(trianglesArea(lobes), 4.0, 1e-12);
+	// the same points as different vertices: refused, as before
+	lobes.same.clear();
+	EXPECT_FALSE(detail::triangulateRings(lobes));
+}
+
 namespace {
 
 // The result of a triangulation as sets: each triangle rotated to start at its smallest vertex

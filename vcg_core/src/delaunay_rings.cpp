@@ -70,7 +70,7 @@ bool triangulateRings(TriangulationJob &job, bool smallRings)
 	job.tris.clear();
 	job.constrained.clear();
 	const bool ringsOnly = job.xy.size() / 2 == size_t(job.ringStart.back());
-	if (smallRings && ringsOnly && triangulateSmallRing(job) == SmallRing::Done)
+	if (smallRings && ringsOnly && job.same.empty() && triangulateSmallRing(job) == SmallRing::Done)
 		return true;
 	job.queryTri.assign(job.queryXY.size() / 2, -1);
 	const size_t n = job.xy.size() / 2;
@@ -80,7 +80,13 @@ bool triangulateRings(TriangulationJob &job, bool smallRings)
 		CDT cdt;
 		std::vector<CDT::Vertex_handle> vh(n);
 		CDT::Vertex_handle hint;
+		size_t distinct = n; // (points that are vertices of their own)
 		for (size_t i = 0; i < n; ++i) {
+			if (i < job.same.size() && job.same[i] >= 0) { // a ring touching itself: one vertex
+				vh[i] = vh[size_t(job.same[i])];
+				--distinct;
+				continue;
+			}
 			const size_t before = cdt.number_of_vertices();
 			vh[i] = cdt.insert(Point(job.xy[2 * i], job.xy[2 * i + 1]),
 			                   hint == CDT::Vertex_handle() ? CDT::Face_handle() : hint->face());
@@ -109,7 +115,7 @@ bool triangulateRings(TriangulationJob &job, bool smallRings)
 		});
 		if (!constrained)
 			return false;
-		if (cdt.number_of_vertices() != n)
+		if (cdt.number_of_vertices() != distinct)
 			return false;
 		if (cdt.dimension() != 2)
 			return false; // every ring vertex projects onto one line: no area to triangulate

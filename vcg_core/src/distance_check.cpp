@@ -1,13 +1,16 @@
 // Beyond the paper (2.4, Params::maxDistance): the distance tolerance on a re-triangulated
 // superface. The removed vertices of its rings are measured against the straightened ring edges;
 // each input face against the triangles its centroid and its corners fall in (each vertex located
-// once, see Scratch::cornerQuery): along the projection direction N, the gap between the face and
-// a triangle's plane is linear over the face, so its largest value over the part of the face above
-// that triangle is at a corner of that part (the face clipped by the triangle, in the projection).
-// A face crossing a triangle that holds neither its centroid nor a corner is not seen. A border
-// too far is a Deviation failure (tighter tolerances, then a locked border fix it), a face too far
-// a Distance failure (only a split fixes it). The distances measured are kept per input face (a
-// removed border vertex's on the face of its ring edge) for the level's figure.
+// once, see Scratch::cornerQuery): the distance of the face to a triangle's plane (along the
+// projection direction N where the bound is the limit, see checkDivisor) is linear over the face,
+// so its largest value over the part of the face above that triangle is at a corner of that part
+// (the face clipped by the triangle, in the projection). A face crossing a triangle that holds
+// neither its centroid nor a corner is not seen. A border too far is a Deviation failure (tighter
+// tolerances, then a locked border fix it), a face too far a Distance failure (inside vertices,
+// then a split fix it): a failing check still looks at every face, and each triangle found too
+// far gets a corner of such a face as a candidate for insertFarthest. The distances measured are
+// kept per input face (a removed border vertex's on the face of its ring edge) for the level's
+// figure.
 #include "level_passes.h"
 
 namespace gausslod {
@@ -123,8 +126,8 @@ int clipByTriangle(const double fxy[6], const double *const tv[3], double sign,
 	return cnt;
 }
 
-// Is face i (f, corners P) of the superface farther than the tolerance from new triangle k,
-// along N? If not, the largest gap seen is kept in gap[f].
+// Is face i (f, corners P) of the superface farther than the tolerance from new triangle k's
+// plane (see checkDivisor)? If not, the largest gap seen is kept in gap[f].
 bool faceTooFar(const TriangulationInput &in, int32_t s, size_t i, int32_t f, const Vec3 P[3],
                 int32_t k, const Vec3 &N, size_t firstTri, const Scratch &w, const ChunkOut &o,
                 std::vector<float> &gap)
@@ -135,7 +138,7 @@ bool faceTooFar(const TriangulationInput &in, int32_t s, size_t i, int32_t f, co
 	const size_t ntri = o.tris.size() / 3 - firstTri;
 	const Vec3 &n = w.triNormal[size_t(k)];
 	const Vec3 &q = t.pos(o.tris[3 * (firstTri + size_t(k))]);
-	const double nN = n.dot(N);
+	const double nN = checkDivisor(in.limits, n, N);
 	double g[3], cornerMax = 0; // the gap at the face's corners to the triangle's plane
 	for (int c = 0; c < 3; ++c) {
 		g[c] = (P[c] - q).dot(n) / nN;
@@ -521,8 +524,27 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 	return sfBound;
 }
 
+// The corner of face f (corners P) that insertFarthest could insert (not kept, not on a border,
+// not inserted yet) farthest from new triangle k's plane (see checkDivisor), as a candidate for k
+// in w.farCorner.
+void recordFarCorner(const TriangulationInput &in, int32_t f, const Vec3 P[3], int32_t k,
+                     const Vec3 &N, size_t firstTri, Scratch &w, const ChunkOut &o)
+{
+	const Vec3 &n = w.triNormal[size_t(k)];
+	const Vec3 q = in.t.pos(o.tris[3 * (firstTri + size_t(k))]);
+	auto &best = w.farCorner[size_t(k)];
+	for (int c = 0; c < 3; ++c) {
+		const int32_t v = in.t.T[3 * f + c];
+		if (in.b.keep[size_t(v)] || in.b.degree[size_t(v)] > 0 || w.inserted(v))
+			continue;
+		const double g = std::fabs((P[c] - q).dot(n) / checkDivisor(in.limits, n, N));
+		if (g > best.first || (g == best.first && best.second >= 0 && v < best.second))
+			best = std::make_pair(g, v);
+	}
+}
+
 Failure distanceCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
-                      const Scratch &w, const ChunkOut &o, std::vector<float> &gap)
+                      Scratch &w, const ChunkOut &o, std::vector<float> &gap)
 {
 	const Failure border = bordersWithin(in, s, gap);
 	if (border != Failure::None)
@@ -530,6 +552,11 @@ Failure distanceCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, si
 	const size_t ntri = o.tris.size() / 3 - firstTri;
 	const size_t faces = size_t(in.faces.end(s) - in.faces.begin(s));
 	const Topology &t = in.t;
+	// once a face is too far, the others are still looked at (insertion follows): each triangle
+	// too far from a face gets a corner of it to insert (w.farCorner)
+	bool far = false;
+	if (ntri > 1)
+		w.farCorner.assign(ntri, std::make_pair(-1.0, int32_t(-1)));
 	for (size_t i = 0; i < faces; ++i) {
 		const int32_t f = in.faces.face[size_t(in.faces.begin(s)) + i];
 		const Vec3 P[3] = {t.pos(t.T[3 * f]), t.pos(t.T[3 * f + 1]), t.pos(t.T[3 * f + 2])};
@@ -549,11 +576,13 @@ Failure distanceCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, si
 			const int32_t k = under[j];
 			if (k < 0 || std::find(under, under + j, k) != under + j)
 				continue;
-			if (tooFar(i, k))
-				return Failure::Distance;
+			if (tooFar(i, k)) {
+				far = true;
+				recordFarCorner(in, f, P, k, N, firstTri, w, o);
+			}
 		}
 	}
-	return Failure::None;
+	return far ? Failure::Distance : Failure::None;
 }
 
 } // namespace detail

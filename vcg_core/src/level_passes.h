@@ -25,7 +25,7 @@ constexpr int kMaxTolSteps = 2;
 constexpr int kTolShift = 2;
 // With the distance tolerance, a superface failing inside gets inside vertices inserted and is
 // triangulated again, up to this many times, before its fallbacks (superface_triangulation.cpp).
-constexpr int kMaxInsertPasses = 8;
+constexpr int kMaxInsertPasses = 16;
 
 /// The limits of one level, derived once from Params (levelLimits, level_geometry.cpp).
 struct LevelLimits {
@@ -150,6 +150,10 @@ struct Scratch {
 	std::vector<int32_t> steiner;
 	std::vector<uint8_t> steinerMark; ///< per input vertex (sized on first use)
 	std::vector<std::pair<double, int32_t>> farthest; ///< per new triangle: (gap, vertex)
+	/// per new triangle, from distanceCheck: the insertable corner of a face found too far over
+	/// it (gap, vertex; -1 = none), for a triangle too far from a face but from none of its
+	/// vertices (the gap peaks where the face crosses the triangle's edge)
+	std::vector<std::pair<double, int32_t>> farCorner;
 	// distance bound (distanceBound): the new triangles in 2D, a grid over them, candidates
 	std::vector<double> boundXY, triArea, triCovered, triNN;
 	std::vector<int8_t> triSign;
@@ -259,9 +263,17 @@ struct TriangulationInput {
 /// checks it; writes the measures of its faces only.
 Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, ChunkOut &o,
                       FaceMeasures &measures);
+/// What the distance tolerance divides a point's distance to a new triangle's plane (unit normal
+/// n) by: 1, the distance itself; with the bound as the limit, n . N, the gap along the
+/// projection direction N (what distanceBound measures, a bound; but at a steep triangle, 80 deg
+/// from N, six times the distance, which refused coarse superfaces that were within it).
+inline double checkDivisor(const LevelLimits &l, const Vec3 &n, const Vec3 &N)
+{
+	return l.boundIsLimit ? n.dot(N) : 1.0;
+}
 /// The distance tolerance on superface s, just triangulated from triangle firstTri of o.
 Failure distanceCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
-                      const Scratch &w, const ChunkOut &o, std::vector<float> &gap);
+                      Scratch &w, const ChunkOut &o, std::vector<float> &gap);
 /// A proven upper bound on the distance, both ways, between superface s's input faces and its new
 /// triangles (from firstTri; w.triNormal set), kept per input face in `bound` (max); returned.
 double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,

@@ -33,6 +33,28 @@ void copyInputFaces(const TriangulationInput &in, int32_t s, bool frozen, ChunkO
 	}
 }
 
+// w.job.same for w.ringVerts: a vertex met again on the rings (the superface's border touches
+// itself there) is the vertex of its first position. (w.vertQuery, -1 between superfaces, marks
+// the vertices seen here.)
+void sameRingVertices(const Topology &t, Scratch &w)
+{
+	w.job.same.clear();
+	if (w.vertQuery.size() != t.nV)
+		w.vertQuery.assign(t.nV, -1);
+	for (size_t i = 0; i < w.ringVerts.size(); ++i) {
+		int32_t &seen = w.vertQuery[size_t(w.ringVerts[i])];
+		if (seen < 0) {
+			seen = int32_t(i);
+			continue;
+		}
+		if (w.job.same.empty())
+			w.job.same.assign(w.ringVerts.size(), -1);
+		w.job.same[i] = seen;
+	}
+	for (const int32_t v : w.ringVerts)
+		w.vertQuery[size_t(v)] = -1;
+}
+
 // The kept vertices of superface s's rings, ring by ring; false if a ring keeps fewer than 3.
 bool keptRingVertices(const TriangulationInput &in, int32_t s, Scratch &w)
 {
@@ -56,6 +78,7 @@ bool keptRingVertices(const TriangulationInput &in, int32_t s, Scratch &w)
 			return false;
 		w.ringVertStart.push_back(int32_t(w.ringVerts.size()));
 	}
+	sameRingVertices(in.t, w);
 	return w.ringVertStart.size() >= 2;
 }
 
@@ -368,6 +391,7 @@ Failure triangulateAndCheck(const TriangulationInput &in, int32_t s, const Vec3 
 {
 	inside = false;
 	w.devMeasured = 0;
+	w.farCorner.clear(); // (distanceCheck's, for this pass only)
 	if (w.ringVertStart.size() == 2 && w.ringVerts.size() == 3) { // one triangle
 		o.emit(w.ringVerts[0], w.ringVerts[1], w.ringVerts[2], 7, true);
 	} else {
@@ -441,11 +465,17 @@ bool insertFarthest(const TriangulationInput &in, int32_t s, const Vec3 &N, size
 				continue;
 			const Vec3 &n = w.triNormal[size_t(k)];
 			const Vec3 q = t.pos(o.tris[3 * (firstTri + size_t(k))]);
-			const double gap = std::fabs((t.pos(v) - q).dot(n) / n.dot(N));
+			const double gap = std::fabs((t.pos(v) - q).dot(n) / checkDivisor(in.limits, n, N));
 			auto &best = w.farthest[size_t(k)];
 			if (gap > best.first || (gap == best.first && best.second >= 0 && v < best.second))
 				best = std::make_pair(gap, v);
 		}
+	// a triangle too far from a face but from none of the vertices under it: a corner of that
+	// face (distanceCheck's)
+	if (w.farCorner.size() == ntri)
+		for (size_t k = 0; k < ntri; ++k)
+			if (w.farthest[k].second < 0 && w.farCorner[k].second >= 0)
+				w.farthest[k] = w.farCorner[k];
 	const size_t before = w.ringVerts.size();
 	for (const auto &best : w.farthest) {
 		const int32_t v = best.second;
