@@ -84,14 +84,14 @@ std::vector<Entry> makeEntries()
 	    {{"maxDistance", K::DiagonalFraction, "Distance tolerance (finest level)",
 	      "distance tolerance of the finest level, % of bbox diagonal; 0 = none",
 	      "Beyond the paper: distance in mesh units (the percentage is of the bounding-box "
-	      "diagonal) that no removed input vertex may end farther than from the finest level; "
-	      "each coarser level allows 'Distance growth' times more. A superface that would "
-	      "gets input vertices inside it kept where it curves, else is retried with tighter "
-	      "borders, then split; the tolerance also caps the straightening tolerance (and the "
-	      "merge distance at half of it). Default 0.02 % (0.32 % at LOD0 of 5): curved parts "
-	      "keep their shape. Each level then reports a proven upper bound on its distance to "
-	      "the input (log, layer name), about twice the measured one. 0 = no distance limit "
-	      "(only normals decide, as in the paper).",
+	      "diagonal) that no input face may end farther than from the plane of the finest "
+	      "level's triangles above it; each coarser level allows 'Distance growth' times more. "
+	      "A superface that would gets input vertices inside it kept where it curves, else is "
+	      "retried with tighter borders, then split; the tolerance also caps the straightening "
+	      "tolerance (and the merge distance at half of it). Default 0.02 % (0.32 % at LOD0 of "
+	      "5): curved parts keep their shape. Each level then reports a proven upper bound on "
+	      "its distance to the input (log, layer name), about two to three times the measured "
+	      "one. 0 = no distance limit (only normals decide, as in the paper).",
 	      d.maxDistance, 0, 1, false, true},
 	     &Params::maxDistance},
 	    {{"distanceGrowth", K::Real, "Distance growth per level",
