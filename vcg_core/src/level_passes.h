@@ -25,7 +25,7 @@ constexpr int kMaxTolSteps = 2;
 constexpr int kTolShift = 2;
 // With the distance tolerance, a superface failing inside gets inside vertices inserted and is
 // triangulated again, up to this many times, before its fallbacks (superface_triangulation.cpp).
-constexpr int kMaxInsertPasses = 16;
+constexpr int kMaxInsertPasses = 8;
 
 /// The limits of one level, derived once from Params (levelLimits, level_geometry.cpp).
 struct LevelLimits {
