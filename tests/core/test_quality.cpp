@@ -95,6 +95,27 @@ TEST(Quality, a_curved_superface_gets_inside_vertices_and_stays_within_the_toler
 		EXPECT_EQ(insideVertices(lm), 0u);
 }
 
+// Diagonals chosen by the distance (DESIGN 26): on fandisk's blended surfaces the Delaunay
+// diagonals of a coarse superface leave it beyond the tolerance where other diagonals of the same
+// vertices do not; with the flips its two coarsest levels have fewer faces (426 and 658 without
+// them) and every input vertex stays within each level's tolerance.
+TEST(Quality, data_dependent_diagonals_coarsen_a_curved_cad_part)
+{
+	const FlatMesh m = loadOff("fandisk.off");
+	const double diag = bboxDiagonal(m.view());
+	const Params prm;
+	const Result r = buildLevels(m.view(), prm);
+	ASSERT_TRUE(r.ok) << r.error;
+	ASSERT_EQ(r.levels.size(), 5u);
+	EXPECT_LT(r.levels[3].stats.faces, 600u); // LOD1
+	EXPECT_LT(r.levels[4].stats.faces, 400u); // LOD0
+	for (const LevelMesh &lm : r.levels) {
+		const double tol = prm.maxDistance * diag *
+		                   std::pow(prm.distanceGrowth, prm.maxLevel - 1 - lm.stats.level);
+		EXPECT_EQ(verticesBeyond(m, lm, tol * (1 + 1e-6)), 0u) << "LOD" << lm.stats.level;
+	}
+}
+
 TEST(Quality, the_default_tolerance_grows_by_level_and_coarser_levels_stay_coarser)
 {
 	for (const char *name : {"fandisk.off", "cow.off"}) {

@@ -4,6 +4,7 @@
 //   straighten_merge.cpp        2.3    straightening (2.3.1) and vicinity merging (2.3.2)
 //   superface_triangulation.cpp 2.4    re-triangulation of one superface and its checks
 //   distance_check.cpp          2.4    the distance tolerance (beyond the paper)
+//   surface_flips.cpp           2.4    diagonals chosen by the distance (beyond the paper)
 //   texture_check.cpp           2.4    the texture-stretch check (beyond the paper)
 //   level_check.cpp                    the whole-level edge check
 //   fallbacks.cpp                      fallback rounds: retry, lock, split; reuse of triangles
@@ -29,14 +30,14 @@ constexpr int kMaxInsertPasses = 8;
 
 /// The limits of one level, derived once from Params (levelLimits, level_geometry.cpp).
 struct LevelLimits {
-	double tolerance = 0;     ///< straightening tolerance (2.3.1), at least `exact`
-	double mergeDistance = 0; ///< vicinity merge distance (2.3.2); 0 = no merging
-	double devLimitDeg = 180; ///< normal-deviation limit of the level; 180 = none
-	double maxDistance = 0;   ///< distance tolerance; 0 = none
+	double tolerance = 0;      ///< straightening tolerance (2.3.1), at least `exact`
+	double mergeDistance = 0;  ///< vicinity merge distance (2.3.2); 0 = no merging
+	double devLimitDeg = 180;  ///< normal-deviation limit of the level; 180 = none
+	double maxDistance = 0;    ///< distance tolerance; 0 = none
 	bool boundIsLimit = false; ///< a superface whose distance bound exceeds it fails too
-	double maxTexError = 0;   ///< texture-coordinate limit (UV units); 0 = none or no UVs
-	int finest = 0;           ///< the finest level (Params::maxLevel - 1)
-	double exact = 0;         ///< below this, a vertex counts as exactly on its chain
+	double maxTexError = 0;    ///< texture-coordinate limit (UV units); 0 = none or no UVs
+	int finest = 0;            ///< the finest level (Params::maxLevel - 1)
+	double exact = 0;          ///< below this, a vertex counts as exactly on its chain
 };
 LevelLimits levelLimits(const Params &params, double diagonal, int level, bool hasUV);
 
@@ -127,6 +128,15 @@ struct ChunkOut {
 	}
 };
 
+/// What flipTowardSurface keeps between superfaces (per thread).
+struct FlipScratch {
+	std::vector<int32_t> queryVertex; ///< per vertex query of the job: its input vertex
+	std::vector<int32_t> head, next;  ///< per triangle / query: the queries it holds (lists)
+	std::vector<int32_t> twin, queue; ///< per half-edge: the opposite one; edges to look at
+	std::vector<double> err;          ///< per triangle: distance of its vertex queries
+	std::vector<std::pair<uint64_t, int32_t>> edges;
+};
+
 /// Per-thread scratch.
 struct Scratch {
 	TriangulationJob job;
@@ -148,12 +158,15 @@ struct Scratch {
 	std::vector<int32_t> touched;     ///< the vertices given a query (to reset vertQuery)
 	// inside vertices inserted into the current superface's triangulation (insertFarthest)
 	std::vector<int32_t> steiner;
-	std::vector<uint8_t> steinerMark; ///< per input vertex (sized on first use)
+	std::vector<uint8_t> steinerMark;                 ///< per input vertex (sized on first use)
 	std::vector<std::pair<double, int32_t>> farthest; ///< per new triangle: (gap, vertex)
 	/// per new triangle, from distanceCheck: the insertable corner of a face found too far over
 	/// it (gap, vertex; -1 = none), for a triangle too far from a face but from none of its
 	/// vertices (the gap peaks where the face crosses the triangle's edge)
 	std::vector<std::pair<double, int32_t>> farCorner;
+	FlipScratch flip;
+	std::vector<int32_t> asideVerts; ///< retryWithFlips: inside vertices set aside
+	std::vector<float> asideUV;
 	// distance bound (distanceBound): the new triangles in 2D, a grid over them, candidates
 	std::vector<double> boundXY, triArea, triCovered, triNN;
 	std::vector<int8_t> triSign;
@@ -271,6 +284,16 @@ inline double checkDivisor(const LevelLimits &l, const Vec3 &n, const Vec3 &N)
 {
 	return l.boundIsLimit ? n.dot(N) : 1.0;
 }
+/// Flips edges of w.job's triangulation of superface s (not ring edges; two triangles forming a
+/// strictly convex quadrilateral) where that brings the farther of the two triangles closer to
+/// the vertex queries under them, starting from the triangles farther than kFlipFrom times the
+/// tolerance (surface_flips.cpp); keeps job.tris, constrained and queryTri consistent.
+constexpr double kFlipFrom = 0.5;
+constexpr size_t kFlipBudget = 4; ///< flips tried per triangle, at most
+/// Superfaces of more faces are not given flips: on the big curved superfaces of coarse levels a
+/// pass they rescue is rare, and each try costs a pass.
+constexpr int32_t kFlipMaxFaces = 4096;
+void flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, Scratch &w);
 /// The distance tolerance on superface s, just triangulated from triangle firstTri of o.
 Failure distanceCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
                       Scratch &w, const ChunkOut &o, std::vector<float> &gap);

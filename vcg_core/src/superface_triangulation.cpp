@@ -2,7 +2,9 @@
 // to its area-weighted normal and triangulated (constrained Delaunay, delaunay_rings.cpp); then
 // the result is checked: every input face against the triangle over its centroid (normal
 // deviation limit, no flip), every triangle against the input surface nearest to it (no flip at
-// thin parts), and the distance tolerance if set (distance_check.cpp).
+// thin parts), and the distance tolerance if set (distance_check.cpp). A pass that fails the
+// tolerance is tried once more with the same vertices and data-dependent diagonals
+// (surface_flips.cpp) before the next pass's inside vertices are added.
 #include "level_passes.h"
 
 #include <stdexcept>
@@ -115,6 +117,7 @@ void projectSuperface(const TriangulationInput &in, int32_t s, const Vec3 &N, Sc
 	if (w.vertQuery.size() != t.nV)
 		w.vertQuery.assign(t.nV, -1);
 	w.cornerQuery.resize(3 * size_t(fe - fb));
+	w.flip.queryVertex.clear();
 	int32_t next = 0;
 	for (int32_t i = fb; i < fe; ++i)
 		for (int k = 0; k < 3; ++k) {
@@ -123,6 +126,7 @@ void projectSuperface(const TriangulationInput &in, int32_t s, const Vec3 &N, Sc
 			if (q < 0) {
 				q = next++;
 				w.touched.push_back(v);
+				w.flip.queryVertex.push_back(v);
 				double xy[2];
 				project(t.pos(v), xy);
 				w.job.queryXY.push_back(xy[0]);
@@ -387,7 +391,8 @@ void resetMeasures(const TriangulationInput &in, int32_t s, FaceMeasures &m)
 // inside vertices can fix (an input face deviating or too far, not a border or a fold).
 // `again`: a pass after the first (the queries are projected already).
 Failure triangulateAndCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
-                            Scratch &w, ChunkOut &o, FaceMeasures &m, bool again, bool &inside)
+                            Scratch &w, ChunkOut &o, FaceMeasures &m, bool again, bool &inside,
+                            bool flips = false)
 {
 	inside = false;
 	w.devMeasured = 0;
@@ -398,6 +403,8 @@ Failure triangulateAndCheck(const TriangulationInput &in, int32_t s, const Vec3 
 		projectSuperface(in, s, N, w, again);
 		if (!triangulateRings(w.job))
 			return Failure::Ring;
+		if (flips)
+			flipTowardSurface(in, s, N, w);
 		for (size_t k = 0; k < w.job.tris.size(); k += 3)
 			o.emit(w.ringVerts[size_t(w.job.tris[k])], w.ringVerts[size_t(w.job.tris[k + 1])],
 			       w.ringVerts[size_t(w.job.tris[k + 2])], w.job.constrained[k / 3], true);
@@ -498,6 +505,36 @@ bool insertFarthest(const TriangulationInput &in, int32_t s, const Vec3 &N, size
 	return w.ringVerts.size() > before;
 }
 
+// A pass that failed the distance tolerance, tried again with the same vertices (the first
+// `count` of w.ringVerts: what insertFarthest added after them is set aside, then put back) and
+// the diagonals flipTowardSurface chooses. True if that passes (the vertices set aside are then
+// dropped).
+bool retryWithFlips(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
+                    size_t count, size_t uvCount, Scratch &w, ChunkOut &o, FaceMeasures &m)
+{
+	const size_t added = w.ringVerts.size() - count;
+	w.asideVerts.assign(w.ringVerts.begin() + std::ptrdiff_t(count), w.ringVerts.end());
+	w.asideUV.assign(w.ringUV.begin() + std::ptrdiff_t(uvCount), w.ringUV.end());
+	w.ringVerts.resize(count), w.ringUV.resize(uvCount);
+	for (const int32_t v : w.asideVerts)
+		w.steinerMark[size_t(v)] = 0;
+	writeDeviations(in, s, w, m);
+	o.truncate(firstTri);
+	resetMeasures(in, s, m);
+	bool inside = false;
+	if (triangulateAndCheck(in, s, N, firstTri, w, o, m, true, inside, true) == Failure::None) {
+		writeDeviations(in, s, w, m);
+		++o.retriangulated;
+		w.steiner.resize(w.steiner.size() - added);
+		return true;
+	}
+	w.ringVerts.insert(w.ringVerts.end(), w.asideVerts.begin(), w.asideVerts.end());
+	w.ringUV.insert(w.ringUV.end(), w.asideUV.begin(), w.asideUV.end());
+	for (const int32_t v : w.asideVerts)
+		w.steinerMark[size_t(v)] = 1;
+	return false;
+}
+
 } // namespace
 
 Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, ChunkOut &o,
@@ -522,6 +559,8 @@ Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, Chunk
 		return Failure::Ring;
 	const size_t firstTri = o.tris.size() / 3;
 	double split = -1; // (insertFarthest's, once per superface)
+	const bool flips =
+	    in.limits.maxDistance > 0 && in.faces.end(s) - in.faces.begin(s) <= kFlipMaxFaces;
 	for (int pass = 0;; ++pass) {
 		bool inside = false; // the failure is one inside vertices can fix
 		const Failure f = triangulateAndCheck(in, s, N, firstTri, w, o, m, pass > 0, inside);
@@ -530,8 +569,14 @@ Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, Chunk
 			++o.retriangulated;
 			return f;
 		}
-		if (!inside || pass == kMaxInsertPasses ||
-		    !insertFarthest(in, s, N, firstTri, w, o, split)) {
+		// the next pass's inside vertices, chosen from this (Delaunay) triangulation
+		const size_t before = w.ringVerts.size(), uvBefore = w.ringUV.size();
+		const bool more =
+		    inside && pass < kMaxInsertPasses && insertFarthest(in, s, N, firstTri, w, o, split);
+		if (flips && f == Failure::Distance && before > 3 &&
+		    retryWithFlips(in, s, N, firstTri, before, uvBefore, w, o, m))
+			return Failure::None;
+		if (!more) {
 			writeDeviations(in, s, w, m); // (what the failed pass measured stays, as it would)
 			return f;
 		}
