@@ -136,7 +136,7 @@ struct ParsedLabel {
 	double distancePct = -1; ///< the distance bound in the label (% of the diagonal), -1 = none
 };
 
-/// "cow LOD2 (5,706 f, <=14.1 deg)", with the distance tolerance "cow LOD2 (5,446 f, <=14.1 deg,
+/// "cow LOD2 (5,706 f, <=14.1 deg)", with the distance tolerance "cow LOD2 (5,420 f, <=14.1 deg,
 /// <=0.15 %)"
 bool parseLabel(const QString &label, ParsedLabel &out)
 {
