@@ -524,25 +524,6 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 	return sfBound;
 }
 
-// The corner of face f (corners P) that insertFarthest could insert (not kept, not on a border,
-// not inserted yet) farthest from new triangle k's plane (see checkDivisor), as a candidate for k
-// in w.farCorner.
-void recordFarCorner(const TriangulationInput &in, int32_t f, const Vec3 P[3], int32_t k,
-                     const Vec3 &N, size_t firstTri, Scratch &w, const ChunkOut &o)
-{
-	const Vec3 &n = w.triNormal[size_t(k)];
-	const Vec3 q = in.t.pos(o.tris[3 * (firstTri + size_t(k))]);
-	auto &best = w.farCorner[size_t(k)];
-	for (int c = 0; c < 3; ++c) {
-		const int32_t v = in.t.T[3 * f + c];
-		if (in.b.keep[size_t(v)] || in.b.degree[size_t(v)] > 0 || w.inserted(v))
-			continue;
-		const double g = std::fabs((P[c] - q).dot(n) / checkDivisor(in.limits, n, N));
-		if (g > best.first || (g == best.first && best.second >= 0 && v < best.second))
-			best = std::make_pair(g, v);
-	}
-}
-
 Failure distanceCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
                       Scratch &w, const ChunkOut &o, std::vector<float> &gap)
 {
@@ -578,7 +559,9 @@ Failure distanceCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, si
 				continue;
 			if (tooFar(i, k)) {
 				far = true;
-				recordFarCorner(in, f, P, k, N, firstTri, w, o);
+				for (int c = 0; c < 3; ++c)
+					offerInsertion(in, w, o, firstTri, N, k, t.T[3 * f + c],
+					               w.farCorner[size_t(k)]);
 			}
 		}
 	}

@@ -284,16 +284,33 @@ inline double checkDivisor(const LevelLimits &l, const Vec3 &n, const Vec3 &N)
 {
 	return l.boundIsLimit ? n.dot(N) : 1.0;
 }
+/// Offers input vertex v as the inside vertex to insert into new triangle k (from firstTri of
+/// o): `best` keeps the vertex farthest from the triangle's plane (see checkDivisor; ties: the
+/// lower index) among those that may be inserted (not kept, on no border, not inserted yet).
+/// (insertFarthest's vertices under each triangle, and distanceCheck's corners of faces too far.)
+inline void offerInsertion(const TriangulationInput &in, const Scratch &w, const ChunkOut &o,
+                           size_t firstTri, const Vec3 &N, int32_t k, int32_t v,
+                           std::pair<double, int32_t> &best)
+{
+	if (in.b.keep[size_t(v)] || in.b.degree[size_t(v)] > 0 || w.inserted(v))
+		return;
+	const Vec3 &n = w.triNormal[size_t(k)];
+	const Vec3 q = in.t.pos(o.tris[3 * (firstTri + size_t(k))]);
+	const double gap = std::fabs((in.t.pos(v) - q).dot(n) / checkDivisor(in.limits, n, N));
+	if (gap > best.first || (gap == best.first && best.second >= 0 && v < best.second))
+		best = std::make_pair(gap, v);
+}
 /// Flips edges of w.job's triangulation of superface s (not ring edges; two triangles forming a
 /// strictly convex quadrilateral) where that brings the farther of the two triangles closer to
 /// the vertex queries under them, starting from the triangles farther than kFlipFrom times the
-/// tolerance (surface_flips.cpp); keeps job.tris, constrained and queryTri consistent.
+/// tolerance (surface_flips.cpp); keeps job.tris, constrained and queryTri consistent. False if
+/// it flipped no edge.
 constexpr double kFlipFrom = 0.5;
 constexpr size_t kFlipBudget = 4; ///< flips tried per triangle, at most
 /// Superfaces of more faces are not given flips: on the big curved superfaces of coarse levels a
 /// pass they rescue is rare, and each try costs a pass.
 constexpr int32_t kFlipMaxFaces = 4096;
-void flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, Scratch &w);
+bool flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, Scratch &w);
 /// The distance tolerance on superface s, just triangulated from triangle firstTri of o.
 Failure distanceCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
                       Scratch &w, const ChunkOut &o, std::vector<float> &gap);

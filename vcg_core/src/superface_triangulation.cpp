@@ -389,10 +389,11 @@ void resetMeasures(const TriangulationInput &in, int32_t s, FaceMeasures &m)
 // One triangulation of superface s from its kept ring vertices and the inside vertices inserted
 // so far (w.ringVerts after the rings), and its checks. `inside` = the failure is one that
 // inside vertices can fix (an input face deviating or too far, not a border or a fold).
-// `again`: a pass after the first (the queries are projected already).
+// `again`: a pass after the first (the queries are projected already). `jobKept`: w.job already
+// holds the pass's triangulation (retryWithFlips: the failed pass's, flipped).
 Failure triangulateAndCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
                             Scratch &w, ChunkOut &o, FaceMeasures &m, bool again, bool &inside,
-                            bool flips = false)
+                            bool jobKept = false)
 {
 	inside = false;
 	w.devMeasured = 0;
@@ -400,11 +401,11 @@ Failure triangulateAndCheck(const TriangulationInput &in, int32_t s, const Vec3 
 	if (w.ringVertStart.size() == 2 && w.ringVerts.size() == 3) { // one triangle
 		o.emit(w.ringVerts[0], w.ringVerts[1], w.ringVerts[2], 7, true);
 	} else {
-		projectSuperface(in, s, N, w, again);
-		if (!triangulateRings(w.job))
-			return Failure::Ring;
-		if (flips)
-			flipTowardSurface(in, s, N, w);
+		if (!jobKept) {
+			projectSuperface(in, s, N, w, again);
+			if (!triangulateRings(w.job))
+				return Failure::Ring;
+		}
 		for (size_t k = 0; k < w.job.tris.size(); k += 3)
 			o.emit(w.ringVerts[size_t(w.job.tris[k])], w.ringVerts[size_t(w.job.tris[k + 1])],
 			       w.ringVerts[size_t(w.job.tris[k + 2])], w.job.constrained[k / 3], true);
@@ -464,18 +465,10 @@ bool insertFarthest(const TriangulationInput &in, int32_t s, const Vec3 &N, size
 	w.farthest.assign(ntri, std::make_pair(in.limits.maxDistance, int32_t(-1)));
 	for (size_t i = 0; i < faces; ++i)
 		for (int c = 0; c < 3; ++c) {
-			const int32_t v = t.T[3 * in.faces.face[size_t(fb) + i] + c];
-			if (in.b.keep[size_t(v)] || in.b.degree[size_t(v)] > 0 || w.inserted(v))
-				continue;
 			const int32_t k = w.job.queryTri[faces + size_t(w.cornerQuery[3 * i + size_t(c)])];
-			if (k < 0)
-				continue;
-			const Vec3 &n = w.triNormal[size_t(k)];
-			const Vec3 q = t.pos(o.tris[3 * (firstTri + size_t(k))]);
-			const double gap = std::fabs((t.pos(v) - q).dot(n) / checkDivisor(in.limits, n, N));
-			auto &best = w.farthest[size_t(k)];
-			if (gap > best.first || (gap == best.first && best.second >= 0 && v < best.second))
-				best = std::make_pair(gap, v);
+			if (k >= 0)
+				offerInsertion(in, w, o, firstTri, N, k, t.T[3 * in.faces.face[size_t(fb) + i] + c],
+				               w.farthest[size_t(k)]);
 		}
 	// a triangle too far from a face but from none of the vertices under it: a corner of that
 	// face (distanceCheck's)
@@ -507,11 +500,13 @@ bool insertFarthest(const TriangulationInput &in, int32_t s, const Vec3 &N, size
 
 // A pass that failed the distance tolerance, tried again with the same vertices (the first
 // `count` of w.ringVerts: what insertFarthest added after them is set aside, then put back) and
-// the diagonals flipTowardSurface chooses. True if that passes (the vertices set aside are then
-// dropped).
+// its triangulation (still in w.job) with the diagonals flipTowardSurface chooses; nothing is
+// tried again if it flips no edge. True if that passes (the vertices set aside are then dropped).
 bool retryWithFlips(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
                     size_t count, size_t uvCount, Scratch &w, ChunkOut &o, FaceMeasures &m)
 {
+	if (!flipTowardSurface(in, s, N, w))
+		return false; // (the same triangles would fail the same way)
 	const size_t added = w.ringVerts.size() - count;
 	w.asideVerts.assign(w.ringVerts.begin() + std::ptrdiff_t(count), w.ringVerts.end());
 	w.asideUV.assign(w.ringUV.begin() + std::ptrdiff_t(uvCount), w.ringUV.end());

@@ -62,14 +62,14 @@ struct Mesh2 {
 
 } // namespace
 
-void flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, Scratch &w)
+bool flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, Scratch &w)
 {
 	TriangulationJob &job = w.job;
 	const size_t ntri = job.tris.size() / 3;
 	const size_t faces = size_t(in.faces.end(s) - in.faces.begin(s));
 	const size_t nq = job.queryTri.size();
 	if (ntri < 2 || nq <= faces || w.flip.queryVertex.size() != nq - faces)
-		return;
+		return false;
 	FlipScratch &f = w.flip;
 	Mesh2 m{job, f, in.t, w.ringVerts, faces, N, in.limits};
 	// per triangle, its queries (linked lists)
@@ -89,7 +89,7 @@ void flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, S
 		any = any || f.err[k] > threshold;
 	}
 	if (!any)
-		return;
+		return false;
 	// opposite half-edges (directed edges sorted by key)
 	f.edges.clear();
 	for (size_t h = 0; h < 3 * ntri; ++h) {
@@ -121,6 +121,7 @@ void flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, S
 			f.twin[size_t(g)] = h;
 	};
 	size_t budget = kFlipBudget * ntri;
+	bool flipped = false;
 	while (!f.queue.empty() && budget > 0) {
 		const int32_t h = f.queue.back();
 		f.queue.pop_back();
@@ -162,6 +163,7 @@ void flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, S
 			continue;
 		}
 		// flip: k1 = (a, d, c), k2 = (d, b, c)
+		flipped = true;
 		const int32_t tAD = f.twin[size_t(3 * k2 + (g % 3 + 1) % 3)],
 		              tDB = f.twin[size_t(3 * k2 + (g % 3 + 2) % 3)],
 		              tBC = f.twin[size_t(3 * k1 + (h % 3 + 1) % 3)],
@@ -193,6 +195,7 @@ void flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, S
 				if (f.twin[3 * size_t(k) + size_t(e)] >= 0)
 					f.queue.push_back(3 * k + e);
 	}
+	return flipped;
 }
 
 } // namespace detail
