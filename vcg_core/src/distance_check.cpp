@@ -60,7 +60,7 @@ Failure bordersWithin(const TriangulationInput &in, int32_t s, std::vector<float
 	bool far = false;
 	const bool rings = forRemovedRingVertices(in, s, [&](int32_t j, int32_t a, int32_t c) {
 		const int32_t he = in.rings.he[size_t(j)];
-		const double d = pointSegmentDistance(t.pos(t.heFrom(he)), t.pos(a), t.pos(c));
+		const double d = pointSegmentDistance(t.pos(t.heFrom(he)), in.out(a), in.out(c));
 		if (d > in.limits.maxDistance)
 			return !(far = true);
 		float &g = gap[size_t(heFace(he))];
@@ -132,12 +132,11 @@ bool faceTooFar(const TriangulationInput &in, int32_t s, size_t i, int32_t f, co
                 int32_t k, const Vec3 &N, size_t firstTri, const Scratch &w, const ChunkOut &o,
                 std::vector<float> &gap)
 {
-	const Topology &t = in.t;
 	const double eps = in.limits.maxDistance;
 	const size_t faces = size_t(in.faces.end(s) - in.faces.begin(s));
 	const size_t ntri = o.tris.size() / 3 - firstTri;
 	const Vec3 &n = w.triNormal[size_t(k)];
-	const Vec3 &q = t.pos(o.tris[3 * (firstTri + size_t(k))]);
+	const Vec3 q = in.out(o.tris[3 * (firstTri + size_t(k))]);
 	const double nN = checkDivisor(in.limits, n, N);
 	double g[3], cornerMax = 0; // the gap at the face's corners to the triangle's plane
 	for (int c = 0; c < 3; ++c) {
@@ -278,7 +277,8 @@ struct TriangleGrid {
 //    within the largest of its corners' distances to a triangle near it (the smaller of both);
 //  - a triangle with a part above no face (an inward pocket): within wb / cos(theta_out) of the
 //    chain along the new triangles over the pocket, and the chain within dv of them; or within
-//    the triangle's longest edge of one of its vertices, which are input vertices.
+//    the triangle's longest edge of one of its vertices, which are input vertices (or, placed
+//    (placement.cpp), that far from one more).
 // The argument assumes what the checks before it establish: the input faces of the superface
 // and its new triangles each project one-to-one onto the plane orthogonal to N.
 // Returns the superface's bound (mesh units).
@@ -290,7 +290,7 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 	const int32_t *tri = &o.tris[3 * firstTri];
 	const Vec3 U = (std::fabs(N[0]) < 0.9 ? N ^ Vec3(1, 0, 0) : N ^ Vec3(0, 1, 0)).Normalize();
 	const Vec3 V = N ^ U;
-	const Vec3 origin = t.pos(tri[0]);
+	const Vec3 origin = in.out(tri[0]);
 	auto project = [&](const Vec3 &p, double *xy) {
 		const Vec3 q = p - origin;
 		xy[0] = q.dot(U), xy[1] = q.dot(V);
@@ -313,7 +313,7 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 				xy[0] = w.job.xy[2 * size_t(w.job.tris[3 * k + c])],
 				xy[1] = w.job.xy[2 * size_t(w.job.tris[3 * k + c]) + 1];
 			else
-				project(t.pos(tri[3 * k + c]), xy);
+				project(in.out(tri[3 * k + c]), xy);
 		}
 		const double *xy = &w.boundXY[6 * k];
 		w.triArea[k] = 0.5 * std::fabs(orient2(xy, xy + 2, xy + 4));
@@ -374,8 +374,8 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 	};
 	double wb = 0; // the removed border vertices' distances from their segments
 	forRemovedRingVertices(in, s, [&](int32_t j, int32_t a, int32_t c) {
-		wb = std::max(
-		    wb, pointSegmentDistance(t.pos(t.heFrom(in.rings.he[size_t(j)])), t.pos(a), t.pos(c)));
+		wb = std::max(wb, pointSegmentDistance(t.pos(t.heFrom(in.rings.he[size_t(j)])), in.out(a),
+		                                       in.out(c)));
 		return true;
 	});
 	// the triangles the check located a face's corners in (-1: none)
@@ -405,7 +405,7 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 				return true; // (seen edge-on: covers nothing in the projection)
 			double g[3];     // the gap of each corner of the face to the triangle's plane, along N
 			auto gaps = [&] {
-				const Vec3 q0 = t.pos(tri[3 * k]);
+				const Vec3 q0 = in.out(tri[3 * k]);
 				for (int c = 0; c < 3; ++c)
 					g[c] = (P[c] - q0).dot(n) / nN;
 			};
@@ -489,8 +489,8 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 			const int32_t *v = &tri[3 * k];
 			double m = 0;
 			for (int c = 0; c < 3 && m < best; ++c)
-				m = std::max(m,
-				             pointTriangleDistance2(P[c], t.pos(v[0]), t.pos(v[1]), t.pos(v[2])));
+				m = std::max(
+				    m, pointTriangleDistance2(P[c], in.out(v[0]), in.out(v[1]), in.out(v[2])));
 			best = std::min(best, m);
 			return true;
 		};
@@ -511,9 +511,15 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 			continue;
 		inward = true;
 		cosOut = std::min(cosOut, std::fabs(w.triNormal[k].dot(N)));
-		for (size_t c = 0; c < 3; ++c)
-			longest =
-			    std::max(longest, (t.pos(tri[3 * k + c]) - t.pos(tri[3 * k + (c + 1) % 3])).Norm());
+		// (each point of the triangle is within its longest edge of a vertex, an input vertex
+		// or one placed that far from it)
+		double edge = 0, placed = 0;
+		for (size_t c = 0; c < 3; ++c) {
+			edge =
+			    std::max(edge, (in.out(tri[3 * k + c]) - in.out(tri[3 * k + (c + 1) % 3])).Norm());
+			placed = std::max(placed, in.moved(tri[3 * k + c]));
+		}
+		longest = std::max(longest, edge + placed);
 	}
 	if (inward) {
 		const double d = std::min(cosOut > 0 ? wb / cosOut + dv : HUGE_VAL, longest);

@@ -271,6 +271,19 @@ struct TriangulationInput {
 	/// With the distance tolerance, below the finest level: per input face, the finer level's
 	/// triangles per face of its superface there (what a split would cost; see insertFarthest).
 	const SplitCost *finerCost;
+	/// Where the output vertices are (xyz per input vertex): null = at the input's positions
+	/// (t.P); the placement's checks give the moved ones (placement.cpp). Input faces are always
+	/// at t.P.
+	const double *outP = nullptr;
+
+	/// The position of input vertex v as a vertex of the output triangles.
+	Vec3 out(int32_t v) const
+	{
+		const double *q = (outP ? outP : t.P) + 3 * size_t(v);
+		return Vec3(q[0], q[1], q[2]);
+	}
+	/// How far output vertex v is from its input position (0 unless placed).
+	double moved(int32_t v) const { return outP ? (out(v) - t.pos(v)).Norm() : 0.0; }
 };
 /// Re-triangulates superface s into o (or copies its input faces when every vertex is kept) and
 /// checks it; writes the measures of its faces only.
@@ -295,7 +308,7 @@ inline void offerInsertion(const TriangulationInput &in, const Scratch &w, const
 	if (in.b.keep[size_t(v)] || in.b.degree[size_t(v)] > 0 || w.inserted(v))
 		return;
 	const Vec3 &n = w.triNormal[size_t(k)];
-	const Vec3 q = in.t.pos(o.tris[3 * (firstTri + size_t(k))]);
+	const Vec3 q = in.out(o.tris[3 * (firstTri + size_t(k))]);
 	const double gap = std::fabs((in.t.pos(v) - q).dot(n) / checkDivisor(in.limits, n, N));
 	if (gap > best.first || (gap == best.first && best.second >= 0 && v < best.second))
 		best = std::make_pair(gap, v);

@@ -102,7 +102,7 @@ void projectSuperface(const TriangulationInput &in, int32_t s, const Vec3 &N, Sc
 	};
 	w.job.xy.resize(2 * w.ringVerts.size());
 	for (size_t i = 0; i < w.ringVerts.size(); ++i)
-		project(t.pos(w.ringVerts[i]), &w.job.xy[2 * i]);
+		project(in.out(w.ringVerts[i]), &w.job.xy[2 * i]);
 	w.job.ringStart = w.ringVertStart;
 	if (queriesKept)
 		return;
@@ -165,13 +165,13 @@ bool facesAway(const Topology &t, int32_t g, const Vec3 &n, bool valid = false)
 }
 
 // Normals and centroids of the new triangles (from firstTri); false if one is degenerate.
-bool triangleFrames(const Topology &t, const ChunkOut &o, size_t firstTri, Scratch &w)
+bool triangleFrames(const TriangulationInput &in, const ChunkOut &o, size_t firstTri, Scratch &w)
 {
 	const size_t ntri = o.tris.size() / 3 - firstTri;
 	w.triNormal.resize(ntri);
 	for (size_t k = 0; k < ntri; ++k) {
 		const int32_t *v = &o.tris[3 * (firstTri + k)];
-		Vec3 n = (t.pos(v[1]) - t.pos(v[0])) ^ (t.pos(v[2]) - t.pos(v[0]));
+		Vec3 n = (in.out(v[1]) - in.out(v[0])) ^ (in.out(v[2]) - in.out(v[0]));
 		if (!(n.Norm() > 0))
 			return false;
 		w.triNormal[k] = n / n.Norm();
@@ -181,7 +181,7 @@ bool triangleFrames(const Topology &t, const ChunkOut &o, size_t firstTri, Scrat
 	w.ownDist2.assign(ntri, HUGE_VAL);
 	for (size_t k = 0; k < ntri; ++k) {
 		const int32_t *v = &o.tris[3 * (firstTri + k)];
-		w.centroid[k] = (t.pos(v[0]) + t.pos(v[1]) + t.pos(v[2])) / 3.0;
+		w.centroid[k] = (in.out(v[0]) + in.out(v[1]) + in.out(v[2])) / 3.0;
 	}
 	return true;
 }
@@ -410,7 +410,7 @@ Failure triangulateAndCheck(const TriangulationInput &in, int32_t s, const Vec3 
 			o.emit(w.ringVerts[size_t(w.job.tris[k])], w.ringVerts[size_t(w.job.tris[k + 1])],
 			       w.ringVerts[size_t(w.job.tris[k + 2])], w.job.constrained[k / 3], true);
 	}
-	if (!triangleFrames(in.t, o, firstTri, w))
+	if (!triangleFrames(in, o, firstTri, w))
 		return Failure::Ring;
 	if (!deviationWithinLimit(in, s, o.tris.size() / 3 - firstTri, w, m)) {
 		inside = true;

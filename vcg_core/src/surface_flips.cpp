@@ -24,6 +24,7 @@ inline double orient(const double *a, const double *b, const double *c)
 struct Mesh2 {
 	TriangulationJob &job;
 	FlipScratch &f;
+	const TriangulationInput &in;
 	const Topology &t;
 	const std::vector<int32_t> &verts; ///< local vertex -> input vertex (Scratch::ringVerts)
 	size_t faces;                      ///< centroid queries come first, then vertex queries
@@ -31,7 +32,7 @@ struct Mesh2 {
 	const LevelLimits &limits;
 
 	const double *xy(int32_t v) const { return &job.xy[2 * size_t(v)]; }
-	Vec3 pos(int32_t v) const { return t.pos(verts[size_t(v)]); }
+	Vec3 pos(int32_t v) const { return in.out(verts[size_t(v)]); }
 
 	// The distance of the vertex queries in list `head` to the plane of triangle (a, b, c), as
 	// the tolerance measures it (checkDivisor); -1 if the triangle is degenerate.
@@ -71,7 +72,7 @@ bool flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, S
 	if (ntri < 2 || nq <= faces || w.flip.queryVertex.size() != nq - faces)
 		return false;
 	FlipScratch &f = w.flip;
-	Mesh2 m{job, f, in.t, w.ringVerts, faces, N, in.limits};
+	Mesh2 m{job, f, in, in.t, w.ringVerts, faces, N, in.limits};
 	// per triangle, its queries (linked lists)
 	f.head.assign(ntri, -1);
 	f.next.assign(nq, -1);

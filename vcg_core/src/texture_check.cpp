@@ -59,7 +59,7 @@ bool bordersWithin(const TriangulationInput &in, int32_t s, std::vector<float> &
 					runStart = i;
 				continue;
 			}
-			const Vec3 pa = t.pos(t.heFrom(a)), ac = t.pos(t.heFrom(h)) - pa;
+			const Vec3 pa = in.out(t.heFrom(a)), ac = in.out(t.heFrom(h)) - pa;
 			const UV ua = cornerUV(t, a), uc = cornerUV(t, h);
 			const double len2 = ac.SquaredNorm();
 			for (int32_t k = 0; k < run; ++k) {
@@ -77,11 +77,11 @@ bool bordersWithin(const TriangulationInput &in, int32_t s, std::vector<float> &
 }
 
 // Texture coordinates that triangle k (from firstTri; corners ring[k]) interpolates at p.
-UV interpolate(const Topology &t, const ChunkOut &o, size_t firstTri, int32_t k, const UV ring[3],
-               const Vec3 &p)
+UV interpolate(const TriangulationInput &in, const ChunkOut &o, size_t firstTri, int32_t k,
+               const UV ring[3], const Vec3 &p)
 {
 	const int32_t *v = &o.tris[3 * (firstTri + size_t(k))];
-	const Vec3 a = t.pos(v[0]), e1 = t.pos(v[1]) - a, e2 = t.pos(v[2]) - a, q = p - a;
+	const Vec3 a = in.out(v[0]), e1 = in.out(v[1]) - a, e2 = in.out(v[2]) - a, q = p - a;
 	const double d11 = e1.dot(e1), d12 = e1.dot(e2), d22 = e2.dot(e2);
 	const double q1 = q.dot(e1), q2 = q.dot(e2), den = d11 * d22 - d12 * d12;
 	const double b1 = den != 0 ? (d22 * q1 - d12 * q2) / den : 0;
@@ -122,7 +122,7 @@ Failure textureCheck(const TriangulationInput &in, int32_t s, size_t firstTri, c
 				    ntri > 1 ? size_t(w.job.tris[3 * size_t(k) + size_t(j)]) : size_t(j);
 				ring[j] = {double(w.ringUV[2 * r]), double(w.ringUV[2 * r + 1])};
 			}
-			const UV at = interpolate(t, o, firstTri, k, ring, t.pos(v));
+			const UV at = interpolate(in, o, firstTri, k, ring, t.pos(v));
 			if (!within(uvGap(cornerUV(t, 3 * f + c), at), in.limits.maxTexError, f, tex))
 				return Failure::Distance;
 		}
