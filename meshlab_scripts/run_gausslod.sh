@@ -137,16 +137,21 @@ tmp=$(mktemp -d "${TMPDIR:-/tmp}/gausslod-run.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 mkdir -p "$tmp/config" "$tmp/runtime"; chmod 700 "$tmp/runtime"
 
-# a script written before the filter had its levelsBy parameter: meshlabserver 2020.09 aborts on
-# a script that lacks any of the filter's parameters, so a copy gets it (levels by angle, what
-# such a script meant)
+# a script written before the filter had its levelsBy or placeVertices parameter: meshlabserver
+# 2020.09 aborts on a script that lacks any of the filter's parameters, so a copy gets them with
+# what such a script meant (levels by angle; output vertices at their input positions)
 run_script=$script
-if ! grep -q 'name="levelsBy"' "$script"; then
+missing=()
+grep -q 'name="levelsBy"' "$script" ||
+  missing+=('<Param type="RichString" name="levelsBy" value="angle" description="Levels by"/>')
+grep -q 'name="placeVertices"' "$script" ||
+  missing+=('<Param type="RichBool" name="placeVertices" value="false" description="Place vertices on the surface"/>')
+if [ ${#missing[@]} -gt 0 ]; then
   run_script=$tmp/script.mlx
-  awk -v f="$filter_name" '
+  awk -v f="$filter_name" -v add="$(printf '  %s\n' "${missing[@]}")" '
     index($0, "<filter") && index($0, "name=\"" f "\"") { in_filter = 1 }
     in_filter && /<\/filter>/ {
-      print "  <Param type=\"RichString\" name=\"levelsBy\" value=\"angle\" description=\"Levels by\"/>"
+      printf "%s", add
       in_filter = 0
     }
     { print }' "$script" >"$run_script"
@@ -191,6 +196,11 @@ level_stats() {
     's/.*bound ([0-9.]+) deg\): .* ([0-9,]+) superfaces, ([0-9,]+) fallbacks.*max ([0-9.]+) deg, mean ([0-9.]+) deg; ([0-9.]+) s.*/\1 \2 \3 \4 \5 \6/p' |
     tr -d ','
 }
+# the level's vertices placed on the surface (0 if none)
+level_placed() {
+  grep -m1 "^LOG: [0-9]* LOD$1 (" "$log" | LC_ALL=C sed -E -n 's/.*; ([0-9,]+) vertices placed on the surface.*/\1/p' |
+    tr -d ','
+}
 # the level's proven distance bound (% of the diagonal), if the tolerance is on
 level_distance() {
   grep -m1 "^LOG: [0-9]* LOD$1 (" "$log" | LC_ALL=C sed -E -n 's/.*; distance to the input at most ([0-9.]+) % of the diagonal.*/\1/p'
@@ -200,7 +210,7 @@ level_target() {
   grep -m1 "^LOG: [0-9]* LOD$1 (" "$log" | LC_ALL=C sed -E -n 's/.*; target (.*), distance tolerance ([0-9.e+-]+) %.*/target \1, tolerance \2 %/p'
 }
 missing=0
-fmt='%-6s %10s %10s %10s %9s %9s %9s %9s %8s %10s  %s\n'
+fmt='%-6s %10s %10s %10s %9s %9s %9s %9s %8s %9s %10s  %s\n'
 repairs=$(grep -m1 -o 'Input repairs (the input layer is unchanged): .*' "$log" || true)
 [ -z "$repairs" ] || echo "${repairs/ (the input layer is unchanged)/}"
 carried=$(grep -m1 -o 'Carried to the levels: .*' "$log" || true)
@@ -225,8 +235,8 @@ if [ -n "$textures" ] && [ "$in_dir" != "$outdir" ]; then
     fi
   done < <(echo "$textures" | sed 's/ | /\n/g')
 fi
-printf "$fmt" level faces vertices superfaces fallbacks bound maxdev meandev seconds distbound% file
-printf "$fmt" input "$in_faces" "$in_verts" - - - - - - - "$input"
+printf "$fmt" level faces vertices superfaces fallbacks bound maxdev meandev seconds placed distbound% file
+printf "$fmt" input "$in_faces" "$in_verts" - - - - - - - - "$input"
 for i in "${!levels[@]}"; do
   f=${outputs[$i]}
   if [ ! -s "$f" ]; then
@@ -243,8 +253,10 @@ for i in "${!levels[@]}"; do
   read -r faces verts <<<"$counts"
   read -r bound sf fb maxdev meandev secs <<<"$(level_stats "${levels[$i]}")" || true
   dist=$(level_distance "${levels[$i]}")
+  placed=$(level_placed "${levels[$i]}")
+  [ -n "$dist" ] && placed=${placed:-0}
   printf "$fmt" "LOD${levels[$i]}" "$faces" "$verts" "${sf:--}" "${fb:--}" "${bound:--}" \
-    "${maxdev:--}" "${meandev:--}" "${secs:--}" "${dist:--}" "$f"
+    "${maxdev:--}" "${meandev:--}" "${secs:--}" "${placed:--}" "${dist:--}" "$f"
   target=$(level_target "${levels[$i]}")
   [ -z "$target" ] || echo "       $target"
 done

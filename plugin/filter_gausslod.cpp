@@ -204,6 +204,10 @@ QString levelLogLine(const gausslod::LevelStats &s, double diag)
 		line += QString("; distance to the input at most %1 % of the diagonal (%2, a proven bound)")
 		            .arg(QString::number(100.0 * s.distanceBound / diag, 'f', 4))
 		            .arg(QString::number(s.distanceBound, 'g', 4));
+	if (s.placedVertices > 0 && diag > 0)
+		line += QString("; %1 vertices placed on the surface (moved at most %2 % of the diagonal)")
+		            .arg(thousands(s.placedVertices))
+		            .arg(QString::number(100.0 * s.maxPlacement / diag, 'f', 4));
 	if (s.reusedFiner)
 		line += QString("; same mesh as LOD%1 (merging gave more faces)").arg(s.level + 1);
 	if (s.targetFaces > 0 || s.targetDistance >= 0)

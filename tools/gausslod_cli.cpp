@@ -328,21 +328,28 @@ std::string levelJson(const gausslod::Params &p, const Outcome &o, size_t i)
 {
 	const gausslod::LevelStats &s = o.levels[i];
 	// the proven distance bound, % of the diagonal and mesh units
-	char dist[64] = "null,\"distance_bound\":null", buf[1024];
+	char dist[64] = "null,\"distance_bound\":null", buf[1200];
 	if (s.distanceBound >= 0 && o.diagonal > 0)
 		std::snprintf(dist, sizeof dist, "%.4f,\"distance_bound\":%.6g",
 		              100.0 * s.distanceBound / o.diagonal, s.distanceBound);
+	// vertex placement: how many output vertices moved, and the largest move (% and units)
+	char placed[128];
+	std::snprintf(placed, sizeof placed,
+	              "\"placed_vertices\":%zu,\"max_placement_pct\":%.4f,\"max_placement\":%.6g,",
+	              s.placedVertices, o.diagonal > 0 ? 100.0 * s.maxPlacement / o.diagonal : 0.0,
+	              s.maxPlacement);
 	std::snprintf(buf, sizeof buf,
 	              "{\"level\":%d,\"faces\":%zu,\"vertices\":%zu,\"superfaces\":%zu,"
 	              "\"fallbacks\":%zu,\"retriangulated\":%zu,\"bound_deg\":%.4f,"
 	              "\"max_dev_deg\":%.4f,\"mean_dev_deg\":%.4f,\"unmeasured_faces\":%zu,"
 	              "\"seconds\":%.4f,\"seconds_partition\":%.4f,\"seconds_borders\":%.4f,"
-	              "\"seconds_triangulation\":%.4f,\"seconds_checks\":%.4f,\"rounds\":%d,"
-	              "\"reused_finer\":%s,\"distance_bound_pct\":%s,",
+	              "\"seconds_triangulation\":%.4f,\"seconds_checks\":%.4f,"
+	              "\"seconds_placement\":%.4f,\"rounds\":%d,"
+	              "\"reused_finer\":%s,\"distance_bound_pct\":%s,%s",
 	              s.level, s.faces, s.vertices, s.superfaces, s.fallbacks, s.retriangulated,
 	              s.boundDeg, s.maxNormalDevDeg, s.meanNormalDevDeg, s.unmeasuredFaces, s.seconds,
 	              s.secondsPartition, s.secondsBorders, s.secondsTriangulation, s.secondsChecks,
-	              s.rounds, s.reusedFiner ? "true" : "false", dist);
+	              s.secondsPlacement, s.rounds, s.reusedFiner ? "true" : "false", dist, placed);
 	std::string json = buf + repairsJson(s.input) + "," + attributesJson(o, s) + "," +
 	                   targetJson(p, s) + ",\"file\":" + jsonString(o.files[i]);
 	if (i < o.materialFiles.size() && !o.materialFiles[i].empty())
@@ -505,9 +512,10 @@ std::string tableRow(const char *label, const gausslod::LevelStats &s, double di
 {
 	char buf[256], dist[64] = "";
 	if (distance && s.distanceBound >= 0 && diag > 0)
-		std::snprintf(dist, sizeof dist, "  %9.4f", 100.0 * s.distanceBound / diag);
+		std::snprintf(dist, sizeof dist, " %9zu  %9.4f", s.placedVertices,
+		              100.0 * s.distanceBound / diag);
 	else if (distance)
-		std::snprintf(dist, sizeof dist, "  %9s", "null");
+		std::snprintf(dist, sizeof dist, " %9zu  %9s", s.placedVertices, "null");
 	if (texture) {
 		const size_t n = std::strlen(dist);
 		if (s.maxTexError >= 0)
@@ -589,13 +597,13 @@ int main(int argc, char **argv)
 				std::printf("levels by %s\n", gausslod::levelsByText(o.params).c_str());
 			std::printf("%-6s %9s %9s %10s %9s %9s %9s %9s %8s%s%s%s%s\n", "level", "faces", "vertices",
 			            "superfaces", "fallback", "bound", "maxdev", "meandev", "seconds",
-			            distance ? " distbound%" : "", texture ? "     texerr" : "",
+			            distance ? "    placed distbound%" : "", texture ? "     texerr" : "",
 			            targets ? (o.params.levelFaces.empty() ? "    target%" : "     target")
 			            : "",
 			            targets ? " reached      tol% trials" : "");
 			std::printf("%-6s %9zu %9zu %10s %9s %9s %9s %9s %8s%s%s\n", "input", sofar.inputFaces,
 			            sofar.inputVertices, "-", "-", "-", "-", "-", "-",
-			            distance ? "          -" : "", texture ? "          -" : "");
+			            distance ? "         -          -" : "", texture ? "          -" : "");
 		}
 		if (o.json) { // (s is sofar's last level, file its file)
 			std::printf("%s\n", cli::levelJson(o.params, sofar, sofar.levels.size() - 1).c_str());

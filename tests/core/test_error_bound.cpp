@@ -163,11 +163,11 @@ Sampled sampledDistance(const FlatMesh &m, const NearestTriangle &input, const L
 {
 	Sampled d;
 	const NearestTriangle level(lm.positions, lm.triangles);
-	// (input: its vertices and centroids, the level's triangles being far larger; level: no
-	// vertices, which are input vertices)
+	// (input: its vertices and centroids, the level's triangles being far larger; level: its
+	// vertices too, which placement may have moved off the input)
 	for (const Vec3 &p : samplePoints(m.positions, m.triangles, true, false, 4000, 1))
 		d.inToLevel = std::max(d.inToLevel, level.distance(p));
-	for (const Vec3 &p : samplePoints(lm.positions, lm.triangles, false, true, 4000, 2))
+	for (const Vec3 &p : samplePoints(lm.positions, lm.triangles, true, true, 4000, 2))
 		d.levelToIn = std::max(d.levelToIn, input.distance(p));
 	return d;
 }

@@ -22,6 +22,18 @@ FlatMesh dome(int n, double h)
 	return m;
 }
 
+// The distance from p to triangle f of the level.
+double triangleDistance(const LevelMesh &lm, size_t f, const Vec3 &p)
+{
+	const vcg::Triangle3<double> t(vpos(lm.positions, lm.triangles[3 * f]),
+	                               vpos(lm.positions, lm.triangles[3 * f + 1]),
+	                               vpos(lm.positions, lm.triangles[3 * f + 2]));
+	double d;
+	Vec3 q;
+	vcg::TrianglePointDistance(t, p, d, q);
+	return d;
+}
+
 // Input vertices farther than `tol` from every triangle of the level (each triangle's box,
 // grown by tol, first: only the triangles near a vertex are measured).
 size_t verticesBeyond(const FlatMesh &m, const LevelMesh &lm, double tol)
@@ -39,13 +51,7 @@ size_t verticesBeyond(const FlatMesh &m, const LevelMesh &lm, double tol)
 		for (size_t f = 0; f < box.size() && !near; ++f) {
 			if (!box[f].IsIn(p))
 				continue;
-			const vcg::Triangle3<double> t(vpos(lm.positions, lm.triangles[3 * f]),
-			                               vpos(lm.positions, lm.triangles[3 * f + 1]),
-			                               vpos(lm.positions, lm.triangles[3 * f + 2]));
-			double d;
-			Vec3 q;
-			vcg::TrianglePointDistance(t, p, d, q);
-			near = d <= tol;
+			near = triangleDistance(lm, f, p) <= tol;
 		}
 		beyond += !near;
 	}
@@ -68,15 +74,22 @@ size_t insideVertices(const LevelMesh &lm)
 	return n;
 }
 
+// The same distance tolerance (fraction of the diagonal) at every level.
+Params uniformTolerance(double tol)
+{
+	Params prm;
+	prm.maxDistance = tol;
+	prm.distanceGrowth = 1;
+	return prm;
+}
+
 } // namespace
 
 TEST(Quality, a_curved_superface_gets_inside_vertices_and_stays_within_the_tolerance)
 {
 	const FlatMesh m = dome(40, 0.15);
 	const double diag = bboxDiagonal(m.view());
-	Params prm;
-	prm.maxDistance = 0.002; // 0.2 % of the diagonal, at every level
-	prm.distanceGrowth = 1;
+	const Params prm = uniformTolerance(0.002); // 0.2 % of the diagonal
 	const Result r = buildLevels(m.view(), prm);
 	ASSERT_TRUE(r.ok) << r.error;
 	const LevelMesh &coarsest = r.levels.back();
@@ -256,5 +269,76 @@ TEST(Quality, levels_by_error_bound_each_levels_measured_distance)
 			EXPECT_EQ(verticesBeyond(m, b.levels[i], b.levels[i].stats.tolerance * diag * (1 + 1e-6)),
 			          0u);
 		}
+	}
+}
+
+namespace {
+
+// The mean and largest distance of the input's vertices to the level (every triangle measured).
+std::pair<double, double> vertexDistances(const FlatMesh &m, const LevelMesh &lm)
+{
+	double sum = 0, worst = 0;
+	const size_t nv = m.positions.size() / 3;
+	for (size_t v = 0; v < nv; ++v) {
+		const Vec3 p = vpos(m.positions, int32_t(v));
+		double best = HUGE_VAL;
+		for (size_t f = 0; f < lm.triangles.size() / 3; ++f)
+			best = std::min(best, triangleDistance(lm, f, p));
+		sum += best, worst = std::max(worst, best);
+	}
+	return std::make_pair(sum / double(nv), worst);
+}
+
+} // namespace
+
+// Vertex placement (DESIGN 27): on a curved height field the same triangles, their vertices moved
+// along their normals, are closer to the input on average (the chords no longer all lie under
+// the surface), every input vertex stays within the tolerance, every move within half of it, the
+// reported bound does not grow, and each output vertex is still its input vertex; a plane does
+// not move at all.
+TEST(Quality, placed_vertices_bring_a_curved_level_closer_and_leave_planes_in_place)
+{
+	const FlatMesh m = dome(40, 0.15);
+	const double diag = bboxDiagonal(m.view());
+	const Params prm = uniformTolerance(0.002); // 0.2 % of the diagonal
+	Params fixed = prm;
+	fixed.placeVertices = false;
+	const Result placed = buildLevels(m.view(), prm), asIs = buildLevels(m.view(), fixed);
+	ASSERT_TRUE(placed.ok && asIs.ok);
+	ASSERT_EQ(placed.levels.size(), asIs.levels.size());
+	const double tol = prm.maxDistance * diag;
+	size_t closer = 0;
+	for (size_t i = 0; i < placed.levels.size(); ++i) {
+		const LevelMesh &a = placed.levels[i], &b = asIs.levels[i];
+		SCOPED_TRACE("LOD" + std::to_string(a.stats.level));
+		EXPECT_EQ(a.triangles, b.triangles);
+		EXPECT_EQ(a.sourceVertex, b.sourceVertex);
+		EXPECT_LE(a.stats.distanceBound, b.stats.distanceBound);
+		EXPECT_LE(a.stats.maxPlacement, 0.5 * tol * (1 + 1e-9));
+		EXPECT_EQ(b.stats.placedVertices, 0u);
+		size_t moved = 0;
+		for (size_t v = 0; v < a.sourceVertex.size(); ++v) {
+			const Vec3 pa = vpos(a.positions, int32_t(v)), pi = vpos(m.positions, a.sourceVertex[v]);
+			EXPECT_LE((pa - pi).Norm(), a.stats.maxPlacement * (1 + 1e-9));
+			moved += pa != pi;
+		}
+		EXPECT_EQ(moved, a.stats.placedVertices);
+		EXPECT_EQ(verticesBeyond(m, a, tol * (1 + 1e-9)), 0u);
+		const auto da = vertexDistances(m, a), db = vertexDistances(m, b);
+		closer += da.first < 0.8 * db.first;
+	}
+	size_t placedAny = 0;
+	for (const LevelMesh &lm : placed.levels)
+		placedAny += lm.stats.placedVertices;
+	EXPECT_GT(placedAny, 0u);
+	EXPECT_GE(closer, placed.levels.size() / 2) << "the mean distance fell by a fifth in too few levels";
+	// a plane stays where it is: the grid cube's levels are its corners
+	const FlatMesh cube = gridCube(20);
+	const Result c = buildLevels(cube.view(), Params());
+	ASSERT_TRUE(c.ok);
+	for (const LevelMesh &lm : c.levels) {
+		EXPECT_EQ(lm.stats.placedVertices, 0u);
+		for (size_t v = 0; v < lm.sourceVertex.size(); ++v)
+			EXPECT_EQ(vpos(lm.positions, int32_t(v)), vpos(cube.positions, lm.sourceVertex[v]));
 	}
 }

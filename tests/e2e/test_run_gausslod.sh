@@ -36,7 +36,7 @@ check_levels() {
     if [ "$prev" -ge 0 ] && [ "$faces" -gt "$prev" ]; then
       fail "$f: $faces faces, more than the finer level ($prev)"
     fi
-    grep -Eq "^LOD$level +$faces +$verts +[0-9]+ +[0-9]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +([0-9.]+|-) +$f\$" "$log" ||
+    grep -Eq "^LOD$level +$faces +$verts +[0-9]+ +[0-9]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +([0-9]+|-) +([0-9.]+|-) +$f\$" "$log" ||
       fail "runner table has no row 'LOD$level $faces $verts ... $f' with the filter's figures"
     prev=$faces
   done
@@ -99,11 +99,25 @@ for level in 3 2 1 0; do
     grep -A1 "^LOD$level " "$work/preset_budget.log" | grep -Eq "target [0-9,]+ faces reached, tolerance" ||
     fail "preset budget LOD$level: no 'target ... reached' line"
 done
-# a script written before levelsBy existed (no such parameter): the angle levels, as before
-grep -v 'name="levelsBy"' "$(dirname "$runner")/gausslod_default.mlx" >"$work/old.mlx"
+# a script written before levelsBy and placeVertices existed (no such parameters): the angle
+# levels, as before, with every output vertex at its input position
+grep -v -e 'name="levelsBy"' -e 'name="placeVertices"' "$(dirname "$runner")/gausslod_default.mlx" \
+  >"$work/old.mlx"
 run old_script "$data/fandisk.off" "$work/old_script" "$work/old.mlx"
-if [ $rc -eq 0 ]; then pass "script without levelsBy: exit 0"; else fail "script without levelsBy: exit $rc"; fi
+if [ $rc -eq 0 ]; then pass "script without levelsBy, placeVertices: exit 0"; else fail "script without levelsBy, placeVertices: exit $rc"; fi
 check_levels "$work/old_script" fandisk "$work/old_script.log" 4 3 2 1 0
+# (the table's placed column: 0 at every level of the old script, more at some of the default's)
+placed_sum() { awk '$1 ~ /^LOD[0-9]$/ { s += $(NF - 2) } END { print s + 0 }' "$1"; }
+if [ "$(placed_sum "$work/old_script.log")" -eq 0 ]; then
+  pass "script without placeVertices: no vertex placed"
+else
+  fail "script without placeVertices: $(placed_sum "$work/old_script.log") vertices placed"
+fi
+if [ "$(placed_sum "$work/cow.log")" -gt 0 ]; then
+  pass "default script: $(placed_sum "$work/cow.log") vertices placed over the cow's levels"
+else
+  fail "default script: no vertex placed on the cow"
+fi
 
 # 4. failures: non-zero exit and a message saying what is wrong
 expect_failure() { # NAME PATTERN

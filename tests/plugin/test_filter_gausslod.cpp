@@ -19,7 +19,7 @@ TEST_F(GaussLodPlugin, declares_itself_as_a_single_mesh_remeshing_filter)
 	const RichParameterList par = defaults(md);
 	const QStringList expected = {
 	    "maxLevel",     "levelsBy",      "outputLevels",  "featureAngle",     "straightenTol",    "mergeDist",
-	    "maxDistance",  "distanceGrowth", "normalLimit",   "acrossCells",      "weldVertices",     "weldDistance",
+	    "maxDistance",  "distanceGrowth", "normalLimit",   "acrossCells",      "placeVertices",    "weldVertices",     "weldDistance",
 	    "keepMaterials", "keepSeams",    "maxTexError",      "selectedOnly",     "colourSuperfaces",
 	    "overwriteColours", "fauxEdges"};
 	EXPECT_EQ(par.size(), unsigned(expected.size()));
@@ -36,6 +36,7 @@ TEST_F(GaussLodPlugin, declares_itself_as_a_single_mesh_remeshing_filter)
 	EXPECT_FLOAT_EQ(par.getFloat("distanceGrowth"), 2.0f);
 	EXPECT_FLOAT_EQ(par.getFloat("normalLimit"), 1.0f);
 	EXPECT_TRUE(par.getBool("acrossCells"));
+	EXPECT_TRUE(par.getBool("placeVertices"));
 	EXPECT_TRUE(par.getBool("colourSuperfaces"));
 	EXPECT_TRUE(par.getBool("fauxEdges"));
 	EXPECT_TRUE(par.getBool("keepMaterials"));

@@ -9,9 +9,10 @@
 //
 // Guarantees (for every level that is returned):
 //  - the input is never modified;
-//  - the output is a triangle mesh whose vertices are a subset of the input vertices (no new
-//    positions are created), with no duplicate face (same vertices, same orientation) and no
-//    face with a repeated vertex;
+//  - the output is a triangle mesh whose vertices are a subset of the input vertices, each at its
+//    input position or (Params::placeVertices) moved along its normal by at most half the level's
+//    distance tolerance, with no duplicate face (same vertices, same orientation) and no face
+//    with a repeated vertex;
 //  - every superface border is shared by both superfaces it separates (no crack, no T-junction);
 //    a closed 2-manifold input gives a closed 2-manifold output, and mesh-boundary loops stay loops;
 //  - faces are oriented like the input faces they replace;
@@ -121,6 +122,13 @@ struct Params {
 	/// splits that cell borders cut through near-flat or slightly noisy regions.
 	/// false = the paper's superfaces (faces of one cell only).
 	bool acrossCells = true;
+	/// Beyond the paper (with the distance tolerance): once a level is built, move each output
+	/// vertex of a new triangle along its normal, by at most half the level's tolerance, to where
+	/// its triangles fit the input best (least squares over the input vertices and face
+	/// centroids under them), keeping a move only where every superface around it passes its
+	/// checks again. The vertex is still the input vertex it was (LevelMesh::sourceVertex, its
+	/// attributes). false = every output vertex at its input position.
+	bool placeVertices = true;
 	/// Input repair, as MeshLab does to STL files on import: vertices at exactly the same position
 	/// become one (the first in index order), so that a triangle soup (STL, most CAD and BIM
 	/// exports) is simplified like the welded mesh. Faces then refer to that first vertex; the
@@ -237,6 +245,9 @@ struct LevelStats {
 	                             ///< -1 = not computed (tolerance off)
 	double maxTexError = -1;     ///< with MeshView::cornerUV: the largest texture-coordinate
 	                             ///< error measured at removed vertices (UV units); -1 = none
+	size_t placedVertices = 0;   ///< output vertices moved off their input position
+	                             ///< (Params::placeVertices)
+	double maxPlacement = 0;     ///< the largest of those moves, mesh units
 	double seconds = 0;          ///< wall time spent on this level (every trial), at least the
 	                             ///< sum of the stages of the build it kept:
 	double secondsPartition = 0; ///<  merging the finer level's superfaces (2.5; finest level:
@@ -244,6 +255,7 @@ struct LevelStats {
 	double secondsBorders = 0;   ///<  rings, straightening, vicinity merging (2.2.2-2.3)
 	double secondsTriangulation = 0; ///< re-triangulation and deviation measurement (2.4)
 	double secondsChecks = 0;    ///<  whole-level validity check and fallback bookkeeping
+	double secondsPlacement = 0; ///<  vertex placement and its checks (Params::placeVertices)
 	int rounds = 0;              ///< build rounds (1 + rounds caused by fallbacks)
 	/// Levels by target (Params::levelFaces / levelDistances); in angle mode targetFaces = 0,
 	/// targetDistance = -1 and targetReached = true.

@@ -179,85 +179,9 @@ bool faceTooFar(const TriangulationInput &in, int32_t s, size_t i, int32_t f, co
 	return false;
 }
 
-// 2x the signed area of the 2D triangle (a, b, c).
-inline double orient2(const double *a, const double *b, const double *c)
-{
-	return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-}
-
-// Is the 2D point p inside (or on) the triangle tv? (of either orientation)
-inline bool insideTriangle(const double *p, const double *const tv[3])
-{
-	const double d0 = orient2(tv[0], tv[1], p), d1 = orient2(tv[1], tv[2], p),
-	             d2 = orient2(tv[2], tv[0], p);
-	return (d0 >= 0 && d1 >= 0 && d2 >= 0) || (d0 <= 0 && d1 <= 0 && d2 <= 0);
-}
 
 // A distance kept as a float, rounded up (a bound must stay a bound).
 inline float roundedUp(double d) { return float(d * (1 + 1e-6)); }
-
-// The new triangles of superface s in 2D (6 per triangle) and a grid over them: cell c holds
-// the triangles whose 2D bounding box meets it, w.cellTri[w.cellStart[c] .. w.cellStart[c+1]).
-struct TriangleGrid {
-	double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
-	double cell[2] = {1, 1};
-	int side = 1;
-
-	int at(double x, int d) const
-	{
-		if (side == 1)
-			return 0;
-		const double c = (x - lo[d]) / cell[d];
-		return c <= 0 ? 0 : c >= side - 1 ? side - 1 : int(c);
-	}
-	void build(const double *xy, size_t ntri, Scratch &w)
-	{
-		for (size_t i = 0; i < 3 * ntri; ++i)
-			for (int d = 0; d < 2; ++d)
-				lo[d] = std::min(lo[d], xy[2 * i + size_t(d)]),
-				hi[d] = std::max(hi[d], xy[2 * i + size_t(d)]);
-		side = std::max(1, std::min(256, int(std::sqrt(double(ntri)))));
-		for (int d = 0; d < 2; ++d)
-			cell[d] = hi[d] > lo[d] ? (hi[d] - lo[d]) / side : 1.0;
-		w.cellStart.assign(size_t(side) * size_t(side) + 1, 0);
-		if (side == 1) { // (one cell: every triangle, in order)
-			w.cellStart[1] = int32_t(ntri);
-			w.cellTri.resize(ntri);
-			for (size_t k = 0; k < ntri; ++k)
-				w.cellTri[k] = int32_t(k);
-			return;
-		}
-		w.cellRange.resize(4 * ntri); // (each triangle's cells, for both passes)
-		for (size_t k = 0; k < ntri; ++k) {
-			const double *t = &xy[6 * k];
-			uint8_t *r = &w.cellRange[4 * k]; // (side <= 256)
-			r[0] = uint8_t(at(std::min({t[0], t[2], t[4]}), 0));
-			r[1] = uint8_t(at(std::max({t[0], t[2], t[4]}), 0));
-			r[2] = uint8_t(at(std::min({t[1], t[3], t[5]}), 1));
-			r[3] = uint8_t(at(std::max({t[1], t[3], t[5]}), 1));
-		}
-		for (int pass = 0; pass < 2; ++pass) {
-			for (size_t k = 0; k < ntri; ++k) {
-				const uint8_t *r = &w.cellRange[4 * k];
-				const int x0 = r[0], x1 = r[1], y0 = r[2], y1 = r[3];
-				for (int y = y0; y <= y1; ++y)
-					for (int x = x0; x <= x1; ++x) {
-						const size_t c = size_t(y) * size_t(side) + size_t(x);
-						if (pass == 0)
-							++w.cellStart[c + 1];
-						else
-							w.cellTri[size_t(w.cellFill[c]++)] = int32_t(k);
-					}
-			}
-			if (pass == 0) {
-				for (size_t c = 1; c < w.cellStart.size(); ++c)
-					w.cellStart[c] += w.cellStart[c - 1];
-				w.cellTri.resize(size_t(w.cellStart.back()));
-				w.cellFill.assign(w.cellStart.begin(), w.cellStart.end() - 1);
-			}
-		}
-	}
-};
 
 } // namespace
 
@@ -269,7 +193,8 @@ struct TriangleGrid {
 // dv, bounds the distance of every point of a face above a triangle and of every point of a
 // triangle above a face. What is left are the pockets between a border chain and the segment
 // that replaced it, where a point is within wb (the largest distance of a removed border vertex
-// from its segment) of the chain in the projection:
+// from its segment, or of a placed border vertex from its input position) of the chain in the
+// projection:
 //  - a face with a part outside the straightened outline (an outward pocket): that part is
 //    within wb / cos(theta_in) of the chain along the input faces (theta_in: the largest angle
 //    between N and an input face over a pocket), and the chain within wb of its segment, an edge
@@ -280,11 +205,19 @@ struct TriangleGrid {
 //    the triangle's longest edge of one of its vertices, which are input vertices (or, placed
 //    (placement.cpp), that far from one more).
 // The argument assumes what the checks before it establish: the input faces of the superface
-// and its new triangles each project one-to-one onto the plane orthogonal to N.
+// and its new triangles each project one-to-one onto the plane orthogonal to N. Placed vertices
+// (placement.cpp) give a second bound, w.boundCap: the superface's bound as accepted plus the
+// largest move of its vertices (a point of a moved triangle is within that move of the point of
+// the triangle before, with the same barycentric coordinates); the smaller of the two holds.
 // Returns the superface's bound (mesh units).
 double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
                      Scratch &w, const ChunkOut &o, std::vector<float> &bound)
 {
+	if (w.boundCap <= w.boundEnough) { // (the other bound is all the caller needs)
+		const size_t f0 = size_t(in.faces.face[size_t(in.faces.begin(s))]);
+		bound[f0] = std::max(bound[f0], roundedUp(w.boundCap));
+		return w.boundCap;
+	}
 	const Topology &t = in.t;
 	const size_t ntri = o.tris.size() / 3 - firstTri;
 	const int32_t *tri = &o.tris[3 * firstTri];
@@ -372,12 +305,21 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 			}
 		}
 	};
-	double wb = 0; // the removed border vertices' distances from their segments
+	// the border chains' vertices' distances from their segments: the removed ones', and the kept
+	// ones' from where they were placed (placement.cpp; 0 otherwise)
+	double wb = 0;
 	forRemovedRingVertices(in, s, [&](int32_t j, int32_t a, int32_t c) {
 		wb = std::max(wb, pointSegmentDistance(t.pos(t.heFrom(in.rings.he[size_t(j)])), in.out(a),
 		                                       in.out(c)));
 		return true;
 	});
+	if (in.placedSlot)
+		for (int32_t i = in.rings.start[size_t(in.rings.sfStart[size_t(s)])];
+		     i < in.rings.start[size_t(in.rings.sfStart[size_t(s) + 1])]; ++i) {
+			const int32_t v = t.heFrom(in.rings.he[size_t(i)]);
+			if (in.b.keep[size_t(v)])
+				wb = std::max(wb, in.moved(v));
+		}
 	// the triangles the check located a face's corners in (-1: none)
 	auto cornersLocated = [&](int32_t i, int32_t k[3]) {
 		for (int c = 0; c < 3; ++c)
@@ -470,7 +412,7 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 			forNear(fxy, overlap);
 		dv = std::max(dv, faceGap);
 		sfBound = std::max(sfBound, faceGap);
-		bound[size_t(f)] = std::max(bound[size_t(f)], roundedUp(faceGap));
+		bound[size_t(f)] = std::max(bound[size_t(f)], roundedUp(std::min(faceGap, w.boundCap)));
 		if (!(faceArea > 0) || covered < faceArea * (1 - 1e-10)) {
 			w.boundCand.push_back(i);
 			const Vec3 n = (P[1] - P[0]) ^ (P[2] - P[0]);
@@ -500,7 +442,7 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 			for (size_t k = 0; k < ntri; ++k)
 				convex(k);
 		const double d = std::sqrt(best);
-		bound[size_t(f)] = std::max(bound[size_t(f)], roundedUp(d));
+		bound[size_t(f)] = std::max(bound[size_t(f)], roundedUp(std::min(d, w.boundCap)));
 		sfBound = std::max(sfBound, d);
 	}
 	// inward pockets
@@ -524,10 +466,10 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 	if (inward) {
 		const double d = std::min(cosOut > 0 ? wb / cosOut + dv : HUGE_VAL, longest);
 		const size_t f0 = size_t(in.faces.face[size_t(in.faces.begin(s))]);
-		bound[f0] = std::max(bound[f0], roundedUp(d));
+		bound[f0] = std::max(bound[f0], roundedUp(std::min(d, w.boundCap)));
 		sfBound = std::max(sfBound, d);
 	}
-	return sfBound;
+	return std::min(sfBound, w.boundCap);
 }
 
 Failure distanceCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,

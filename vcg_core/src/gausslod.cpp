@@ -162,10 +162,12 @@ void keepFinerLevel(const MeshView &mesh, int level, std::vector<detail::Partiti
 		c = c == kInvalidCell ? c : parentKey(c);
 	const LevelStats spent = lm.stats; // the time was spent all the same
 	lm = std::move(finer);
-	lm.positions.resize(3 * lm.sourceVertex.size()); // (dropped from `finer`, see buildLevels)
-	for (size_t v = 0; v < lm.sourceVertex.size(); ++v)
-		for (size_t k = 0; k < 3; ++k)
-			lm.positions[3 * v + k] = mesh.positions[3 * size_t(lm.sourceVertex[v]) + k];
+	if (lm.positions.empty()) { // (dropped from `finer` where none was placed, see buildLevels)
+		lm.positions.resize(3 * lm.sourceVertex.size());
+		for (size_t v = 0; v < lm.sourceVertex.size(); ++v)
+			for (size_t k = 0; k < 3; ++k)
+				lm.positions[3 * v + k] = mesh.positions[3 * size_t(lm.sourceVertex[v]) + k];
+	}
 	lm.inputSuperface = p.label;
 	lm.stats.secondsPartition = spent.secondsPartition;
 	lm.stats.secondsBorders = spent.secondsBorders;
@@ -219,6 +221,7 @@ void buildToFaceTarget(const detail::Topology &topo, const Params &params,
 	Params trial = params; // (levelFaces kept: levelLimits then knows these are searches, whose
 	                       // distance bound is reported, not a limit as in levels by error)
 	trial.levelDistances.assign(size_t(params.maxLevel), 1.0); // (only this level's is read)
+	trial.placeVertices = false; // (it moves no face count: the chosen build is placed, below)
 	Partition &p = parts[size_t(level)];
 	Partition &start = merged;
 	start = p;
@@ -253,7 +256,15 @@ void buildToFaceTarget(const detail::Topology &topo, const Params &params,
 		const double mid = 0.5 * (lo + hi);
 		(run(mid) <= target ? hi : lo) = mid;
 	}
-	p = std::move(bestPart);
+	if (params.placeVertices) { // the chosen build again, placed (the same build otherwise)
+		trial.placeVertices = true;
+		trial.levelDistances[size_t(level)] = bestTol;
+		p = start;
+		lm = LevelMesh();
+		buildLevelGeometry(topo, trial, parts, p, lm, faceLimit, cost); // (not a trial)
+	} else {
+		p = std::move(bestPart);
+	}
 	lm.stats.tolerance = bestTol;
 	lm.stats.trials = trials;
 }
@@ -406,8 +417,10 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			}
 			finer = std::move(lm);
 			// (kept for a coarser level that comes out with more faces; until then its positions
-			// and input labels are only memory: they are rebuilt from the input and the partition)
-			std::vector<double>().swap(finer.positions);
+			// and input labels are only memory: they are rebuilt from the input and the partition,
+			// the positions unless some were placed)
+			if (finer.stats.placedVertices == 0)
+				std::vector<double>().swap(finer.positions);
 			std::vector<int32_t>().swap(finer.inputSuperface);
 		}
 		if (!report(1.0, "done"))

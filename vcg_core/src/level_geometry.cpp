@@ -110,7 +110,7 @@ public:
 	LevelRounds(const Topology &t, const Params &prm, const std::vector<Partition> &finer,
 	            Partition &p, LevelMesh &out, size_t faceLimit, const SplitCost *finerCost)
 	    : t_(t), finer_(finer), p_(p), out_(out), faceLimit_(faceLimit), finerCost_(finerCost),
-	      limits_(levelLimits(prm, t.diagonal, p.level, t.UV != nullptr))
+	      limits_(levelLimits(prm, t.diagonal, p.level, t.UV != nullptr)), place_(prm.placeVertices)
 	{
 		fb_.extraLock.assign(t_.nV, 0);
 		fb_.tolStep.assign(t_.nF, 0);
@@ -133,7 +133,9 @@ private:
 	const size_t faceLimit_;
 	const SplitCost *finerCost_;
 	const LevelLimits limits_;
+	const bool place_; ///< Params::placeVertices
 	Stopwatch clock_;
+	Placement placement_;
 
 	SuperfaceFaces faces_;
 	Borders borders_;
@@ -196,6 +198,12 @@ void LevelRounds::run()
 		out_.stats.secondsChecks += clock_.lap();
 	}
 	out_.stats.rounds = round + 1;
+	if (place_ && limits_.maxDistance > 0) {
+		out_.stats.secondsChecks += clock_.lap();
+		placeVertices(PlacementInput{t_, p_, faces_, limits_, tri_, cache_, fb_.extraLock}, chunks_,
+		              borders_, rings_, measures_, placement_);
+		out_.stats.secondsPlacement = clock_.lap();
+	}
 	finish(fallbacks);
 	out_.stats.secondsChecks += clock_.lap();
 }
@@ -401,9 +409,13 @@ void LevelRounds::finish(size_t fallbacks)
 			continue;
 		const size_t o = size_t(remap[v]);
 		out_.sourceVertex[o] = int32_t(v);
+		const Vec3 p = placement_.at(t_, v);
 		for (size_t k = 0; k < 3; ++k)
-			out_.positions[3 * o + k] = t_.P[3 * v + k];
+			out_.positions[3 * o + k] = p[int(k)];
 	}
+	out_.stats.placedVertices = placement_.moved;
+	out_.stats.maxPlacement = placement_.maxMove;
+	placement_ = Placement();
 	if (t_.wantSources)
 		findSources(t_, p_, tri_, out_); // (on input vertex numbers)
 	for (int32_t &v : tri_.tris)

@@ -7,6 +7,7 @@
 //   surface_flips.cpp           2.4    diagonals chosen by the distance (beyond the paper)
 //   texture_check.cpp           2.4    the texture-stretch check (beyond the paper)
 //   level_check.cpp                    the whole-level edge check
+//   placement.cpp                      vertex placement once the level is valid (beyond the paper)
 //   fallbacks.cpp                      fallback rounds: retry, lock, split; reuse of triangles
 //   level_geometry.cpp                 the rounds of one level, and its output
 #pragma once
@@ -165,6 +166,7 @@ struct Scratch {
 	/// vertices (the gap peaks where the face crosses the triangle's edge)
 	std::vector<std::pair<double, int32_t>> farCorner;
 	FlipScratch flip;
+	std::vector<int32_t> localOf;    ///< jobFromTriangles: per input vertex, its job vertex (-1)
 	std::vector<int32_t> asideVerts; ///< retryWithFlips: inside vertices set aside
 	std::vector<float> asideUV;
 	// distance bound (distanceBound): the new triangles in 2D, a grid over them, candidates
@@ -174,7 +176,87 @@ struct Scratch {
 	std::vector<uint8_t> cellRange;
 	std::vector<uint32_t> triStamp;
 	uint32_t stampNow = 0;
+	/// distanceBound's other bound, if smaller (placement.cpp: as accepted, plus the moves), and
+	/// below what it is all the caller needs (then it is the bound, and nothing is computed)
+	double boundCap = HUGE_VAL, boundEnough = 0;
 	bool inserted(int32_t v) const { return !steinerMark.empty() && steinerMark[size_t(v)]; }
+};
+
+// 2x the signed area of the 2D triangle (a, b, c).
+inline double orient2(const double *a, const double *b, const double *c)
+{
+	return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+// Is the 2D point p inside (or on) the triangle tv? (of either orientation)
+inline bool insideTriangle(const double *p, const double *const tv[3])
+{
+	const double d0 = orient2(tv[0], tv[1], p), d1 = orient2(tv[1], tv[2], p),
+	             d2 = orient2(tv[2], tv[0], p);
+	return (d0 >= 0 && d1 >= 0 && d2 >= 0) || (d0 <= 0 && d1 <= 0 && d2 <= 0);
+}
+
+// The new triangles of superface s in 2D (6 per triangle) and a grid over them: cell c holds
+// the triangles whose 2D bounding box meets it, w.cellTri[w.cellStart[c] .. w.cellStart[c+1]).
+struct TriangleGrid {
+	double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
+	double cell[2] = {1, 1};
+	int side = 1;
+
+	int at(double x, int d) const
+	{
+		if (side == 1)
+			return 0;
+		const double c = (x - lo[d]) / cell[d];
+		return c <= 0 ? 0 : c >= side - 1 ? side - 1 : int(c);
+	}
+	void build(const double *xy, size_t ntri, Scratch &w)
+	{
+		for (size_t i = 0; i < 3 * ntri; ++i)
+			for (int d = 0; d < 2; ++d)
+				lo[d] = std::min(lo[d], xy[2 * i + size_t(d)]),
+				hi[d] = std::max(hi[d], xy[2 * i + size_t(d)]);
+		side = std::max(1, std::min(256, int(std::sqrt(double(ntri)))));
+		for (int d = 0; d < 2; ++d)
+			cell[d] = hi[d] > lo[d] ? (hi[d] - lo[d]) / side : 1.0;
+		w.cellStart.assign(size_t(side) * size_t(side) + 1, 0);
+		if (side == 1) { // (one cell: every triangle, in order)
+			w.cellStart[1] = int32_t(ntri);
+			w.cellTri.resize(ntri);
+			for (size_t k = 0; k < ntri; ++k)
+				w.cellTri[k] = int32_t(k);
+			return;
+		}
+		w.cellRange.resize(4 * ntri); // (each triangle's cells, for both passes)
+		for (size_t k = 0; k < ntri; ++k) {
+			const double *t = &xy[6 * k];
+			uint8_t *r = &w.cellRange[4 * k]; // (side <= 256)
+			r[0] = uint8_t(at(std::min({t[0], t[2], t[4]}), 0));
+			r[1] = uint8_t(at(std::max({t[0], t[2], t[4]}), 0));
+			r[2] = uint8_t(at(std::min({t[1], t[3], t[5]}), 1));
+			r[3] = uint8_t(at(std::max({t[1], t[3], t[5]}), 1));
+		}
+		for (int pass = 0; pass < 2; ++pass) {
+			for (size_t k = 0; k < ntri; ++k) {
+				const uint8_t *r = &w.cellRange[4 * k];
+				const int x0 = r[0], x1 = r[1], y0 = r[2], y1 = r[3];
+				for (int y = y0; y <= y1; ++y)
+					for (int x = x0; x <= x1; ++x) {
+						const size_t c = size_t(y) * size_t(side) + size_t(x);
+						if (pass == 0)
+							++w.cellStart[c + 1];
+						else
+							w.cellTri[size_t(w.cellFill[c]++)] = int32_t(k);
+					}
+			}
+			if (pass == 0) {
+				for (size_t c = 1; c < w.cellStart.size(); ++c)
+					w.cellStart[c] += w.cellStart[c - 1];
+				w.cellTri.resize(size_t(w.cellStart.back()));
+				w.cellFill.assign(w.cellStart.begin(), w.cellStart.end() - 1);
+			}
+		}
+	}
 };
 
 /// The work of a round cut in chunks of consecutive superfaces of about the same number of
@@ -271,19 +353,26 @@ struct TriangulationInput {
 	/// With the distance tolerance, below the finest level: per input face, the finer level's
 	/// triangles per face of its superface there (what a split would cost; see insertFarthest).
 	const SplitCost *finerCost;
-	/// Where the output vertices are (xyz per input vertex): null = at the input's positions
-	/// (t.P); the placement's checks give the moved ones (placement.cpp). Input faces are always
-	/// at t.P.
-	const double *outP = nullptr;
+	/// Where the output vertices are: null = at the input's positions (t.P); the placement's
+	/// checks give the moved ones (placement.cpp): per input vertex its slot (-1: not moved),
+	/// and xyz per slot in placedP. Input faces are always at t.P.
+	const int32_t *placedSlot = nullptr;
+	const double *placedP = nullptr;
 
 	/// The position of input vertex v as a vertex of the output triangles.
 	Vec3 out(int32_t v) const
 	{
-		const double *q = (outP ? outP : t.P) + 3 * size_t(v);
-		return Vec3(q[0], q[1], q[2]);
+		if (placedSlot && placedSlot[v] >= 0) {
+			const double *q = placedP + 3 * size_t(placedSlot[v]);
+			return Vec3(q[0], q[1], q[2]);
+		}
+		return t.pos(v);
 	}
 	/// How far output vertex v is from its input position (0 unless placed).
-	double moved(int32_t v) const { return outP ? (out(v) - t.pos(v)).Norm() : 0.0; }
+	double moved(int32_t v) const
+	{
+		return placedSlot && placedSlot[v] >= 0 ? (out(v) - t.pos(v)).Norm() : 0.0;
+	}
 };
 /// Re-triangulates superface s into o (or copies its input faces when every vertex is kept) and
 /// checks it; writes the measures of its faces only.
@@ -332,6 +421,20 @@ Failure distanceCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, si
 double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
                      Scratch &w, const ChunkOut &o, std::vector<float> &bound);
 
+/// Vertex placement (placement.cpp): superface s's accepted triangles `tris` (ntri of them, on
+/// input vertex numbers, `bits` their border bits) made into w.job as a re-triangulation would
+/// have left it, with the output vertices at in.out(): the rings' kept vertices, then the other
+/// vertices of the triangles (its inside vertices), projected on the plane orthogonal to N (the
+/// superface's, set here), and every query located in a triangle (just outside the triangles:
+/// the nearest one). False if s is not one a re-triangulation accepts (its faces fold in
+/// projection, its rings are broken, a triangle has a vertex that is not its).
+bool jobFromTriangles(const TriangulationInput &in, int32_t s, const int32_t *tris,
+                      const uint8_t *bits, size_t ntri, Vec3 &N, Scratch &w);
+/// The checks of a re-triangulation (triangulateAndCheck) on what jobFromTriangles left, its
+/// triangles emitted into o; writes the measures of s's faces, `bound` its distance bound.
+Failure checkTriangles(const TriangulationInput &in, int32_t s, const Vec3 &N, Scratch &w,
+                       ChunkOut &o, FaceMeasures &m, double &bound);
+
 /// The texture-stretch check on superface s, just triangulated from triangle firstTri of o.
 Failure textureCheck(const TriangulationInput &in, int32_t s, size_t firstTri, const Scratch &w,
                      const ChunkOut &o, std::vector<float> &tex);
@@ -348,6 +451,37 @@ struct LevelTriangles {
 /// twice in the same direction where the input had it right.
 void checkLevelEdges(const Topology &t, size_t superfaces, const LevelTriangles &lt,
                      FailedList &failed, size_t &failedTris);
+
+// ---- vertex placement (placement.cpp)
+
+/// What placeVertices reads of a level that passed its checks.
+struct PlacementInput {
+	const Topology &t;
+	const Partition &p;
+	const SuperfaceFaces &faces;
+	const LevelLimits &limits;
+	const LevelTriangles &lt;              ///< the level's triangles, in superface order
+	const std::vector<Cached> &cache;      ///< per superface: its range of lt
+	const std::vector<uint8_t> &extraLock; ///< FallbackState::extraLock (never moved)
+};
+/// Where placeVertices put the output vertices.
+struct Placement {
+	std::vector<int32_t> slot; ///< per input vertex: its slot in P, -1 = not moved; empty if
+	                           ///< none moved
+	std::vector<double> P;     ///< xyz per slot
+	size_t moved = 0;          ///< output vertices moved
+	double maxMove = 0;        ///< the largest move, mesh units
+	Vec3 at(const Topology &t, size_t v) const
+	{
+		return !slot.empty() && slot[v] >= 0 ? Vec3(&P[3 * size_t(slot[v])]) : t.pos(int32_t(v));
+	}
+};
+/// Beyond the paper (DESIGN 27): moves the output vertices along their normals to fit the input
+/// better, each move kept only where every superface around it passes its checks again (their
+/// measures in m are then those of the moved triangles). Traces the rings of the superfaces a
+/// move may change (b, rings).
+void placeVertices(const PlacementInput &in, Chunks &chunks, Borders &b, Rings &rings,
+                   FaceMeasures &m, Placement &out);
 
 // ---- fallback rounds and reuse (fallbacks.cpp)
 

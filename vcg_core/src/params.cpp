@@ -119,6 +119,18 @@ std::vector<Entry> makeEntries()
 	      "(faces of one cell only).",
 	      double(d.acrossCells), 0, 1, false, true},
 	     &Params::acrossCells},
+	    {{"placeVertices", K::Flag, "Place vertices on the surface",
+	      "move kept vertices along their normal to fit the input (false = at input positions)",
+	      "Beyond the paper, with the distance tolerance: once a level is built, each kept "
+	      "vertex of a re-triangulated superface is moved along its normal, by at most half the "
+	      "level's tolerance, to where its triangles fit the input best (least squares), as "
+	      "quadric simplifiers place their vertices: a curved part's triangles are then no "
+	      "longer all on one side of the surface. A move is kept only where every superface "
+	      "around the vertex still passes every check (normal limit, distance tolerance, "
+	      "texture stretch); flat and exact parts do not move, and each vertex keeps its "
+	      "attributes. Off = every output vertex at its input position.",
+	      double(d.placeVertices), 0, 1, false, true},
+	     &Params::placeVertices},
 	    {{"weldVertices", K::Flag, "Weld coincident vertices", "weld vertices at the same position",
 	      "Vertices at exactly the same position are joined before simplifying (the first "
 	      "one is kept), as MeshLab does to STL files on import: a triangle soup (STL, most "

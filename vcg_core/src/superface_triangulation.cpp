@@ -390,10 +390,11 @@ void resetMeasures(const TriangulationInput &in, int32_t s, FaceMeasures &m)
 // so far (w.ringVerts after the rings), and its checks. `inside` = the failure is one that
 // inside vertices can fix (an input face deviating or too far, not a border or a fold).
 // `again`: a pass after the first (the queries are projected already). `jobKept`: w.job already
-// holds the pass's triangulation (retryWithFlips: the failed pass's, flipped).
+// holds the pass's triangulation (retryWithFlips: the failed pass's, flipped). `bound`: set to
+// the superface's distance bound (distanceBound) when the pass gets that far.
 Failure triangulateAndCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
                             Scratch &w, ChunkOut &o, FaceMeasures &m, bool again, bool &inside,
-                            bool jobKept = false)
+                            bool jobKept = false, double *bound = nullptr)
 {
 	inside = false;
 	w.devMeasured = 0;
@@ -431,10 +432,13 @@ Failure triangulateAndCheck(const TriangulationInput &in, int32_t s, const Vec3 
 	ownDistances(in, s, o.tris.size() / 3 - firstTri, w);
 	if (!uncoveredFacing(in, s, o, firstTri, w) || !nearestSurfaceFacing(in.t, w))
 		return Failure::Ring;
-	if (in.limits.maxDistance > 0 && // (the level's reported distance: a bound, DESIGN 23)
-	    distanceBound(in, s, N, firstTri, w, o, m.gap) > in.limits.maxDistance &&
-	    in.limits.boundIsLimit)
-		return Failure::Deviation; // (tighter borders, then locked ones: the pockets close)
+	if (in.limits.maxDistance > 0) { // (the level's reported distance: a bound, DESIGN 23)
+		const double b = distanceBound(in, s, N, firstTri, w, o, m.gap);
+		if (bound)
+			*bound = b;
+		if (b > in.limits.maxDistance && in.limits.boundIsLimit)
+			return Failure::Deviation; // (tighter borders, then locked ones: the pockets close)
+	}
 	return Failure::None;
 }
 
@@ -531,6 +535,97 @@ bool retryWithFlips(const TriangulationInput &in, int32_t s, const Vec3 &N, size
 }
 
 } // namespace
+
+bool jobFromTriangles(const TriangulationInput &in, int32_t s, const int32_t *tris,
+                      const uint8_t *bits, size_t ntri, Vec3 &N, Scratch &w)
+{
+	const Topology &t = in.t;
+	bool unchanged = false;
+	if (in.rings.broken[size_t(s)] || !projectionNormal(in, s, N, unchanged, w))
+		return false;
+	for (const int32_t v : w.steiner) // (the previous superface's)
+		w.steinerMark[size_t(v)] = 0;
+	w.steiner.clear();
+	if (!keptRingVertices(in, s, w) || ntri == 0)
+		return false;
+	if (w.localOf.size() != t.nV)
+		w.localOf.assign(t.nV, -1);
+	for (size_t i = 0; i < w.ringVerts.size(); ++i)
+		if (w.localOf[size_t(w.ringVerts[i])] < 0) // (a vertex met twice: its first position)
+			w.localOf[size_t(w.ringVerts[i])] = int32_t(i);
+	const size_t ringCount = w.ringVerts.size();
+	bool ok = true;
+	for (size_t k = 0; k < 3 * ntri && ok; ++k) { // the inside vertices, in triangle order
+		const int32_t v = tris[k];
+		if (w.localOf[size_t(v)] >= 0)
+			continue;
+		w.localOf[size_t(v)] = int32_t(w.ringVerts.size());
+		w.ringVerts.push_back(v);
+		if (in.limits.maxTexError > 0) { // (its texture coordinates: a corner of the superface)
+			const int32_t corner = cornerAt(in, s, v);
+			w.ringUV.push_back(t.UV[2 * size_t(corner)]);
+			w.ringUV.push_back(t.UV[2 * size_t(corner) + 1]);
+		}
+	}
+	const bool oneTriangle = w.ringVertStart.size() == 2 && ringCount == 3 && ntri == 1;
+	if (!oneTriangle) {
+		projectSuperface(in, s, N, w, false);
+		w.job.tris.resize(3 * ntri);
+		w.job.constrained.resize(ntri);
+		for (size_t k = 0; k < ntri; ++k) {
+			for (size_t c = 0; c < 3; ++c)
+				w.job.tris[3 * k + c] = w.localOf[size_t(tris[3 * k + c])];
+			w.job.constrained[k] = uint8_t(bits[k] & kBorderBits);
+		}
+		// every query in the triangle that holds it, else (just outside the triangles, at a
+		// border) the one it is least outside of among those of its grid cell
+		w.boundXY.resize(6 * ntri);
+		for (size_t k = 0; k < ntri; ++k)
+			for (size_t c = 0; c < 3; ++c) {
+				const double *xy = &w.job.xy[2 * size_t(w.job.tris[3 * k + c])];
+				w.boundXY[6 * k + 2 * c] = xy[0], w.boundXY[6 * k + 2 * c + 1] = xy[1];
+			}
+		TriangleGrid grid;
+		grid.build(w.boundXY.data(), ntri, w);
+		const size_t nq = w.job.queryXY.size() / 2;
+		w.job.queryTri.assign(nq, -1);
+		for (size_t q = 0; q < nq; ++q) {
+			const double *p = &w.job.queryXY[2 * q];
+			const size_t c = size_t(grid.at(p[1], 1)) * size_t(grid.side) + size_t(grid.at(p[0], 0));
+			double best = -HUGE_VAL;
+			for (int32_t i = w.cellStart[c]; i < w.cellStart[c + 1]; ++i) {
+				const size_t k = size_t(w.cellTri[size_t(i)]);
+				const double *a = &w.boundXY[6 * k], *b = a + 2, *d = a + 4;
+				const double area = orient2(a, b, d);
+				if (!(std::fabs(area) > 0))
+					continue;
+				// the smallest barycentric coordinate of p (>= 0: inside or on the triangle)
+				const double m = std::min({orient2(b, d, p), orient2(d, a, p), orient2(a, b, p)}) / area;
+				if (m > best)
+					best = m, w.job.queryTri[q] = int32_t(k);
+				if (m >= 0)
+					break;
+			}
+		}
+	} else if (w.ringVerts.size() != 3) {
+		ok = false;
+	}
+	for (const int32_t v : w.ringVerts)
+		w.localOf[size_t(v)] = -1;
+	return ok;
+}
+
+Failure checkTriangles(const TriangulationInput &in, int32_t s, const Vec3 &N, Scratch &w,
+                       ChunkOut &o, FaceMeasures &m, double &bound)
+{
+	bool inside = false;
+	bound = 0;
+	const Failure f =
+	    triangulateAndCheck(in, s, N, o.tris.size() / 3, w, o, m, true, inside, true, &bound);
+	if (f == Failure::None)
+		writeDeviations(in, s, w, m);
+	return f;
+}
 
 Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, ChunkOut &o,
                       FaceMeasures &m)
