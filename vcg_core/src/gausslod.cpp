@@ -151,7 +151,8 @@ bool prepare(const MeshView &input, const Params &params, Result &res, MeshView 
 // A coarser level that came out with more faces than the finer one (2.5 promises monotone face
 // counts) is the finer level's mesh: its partition, with the cells of this level.
 void keepFinerLevel(const MeshView &mesh, int level, std::vector<detail::Partition> &parts,
-                    const detail::Partition &finerPart, LevelMesh &finer, LevelMesh &lm)
+                    const detail::Partition &finerPart, LevelMesh &finer,
+                    const std::vector<std::pair<int32_t, detail::Vec3>> &finerPlaced, LevelMesh &lm)
 {
 	detail::Partition &p = parts[size_t(level)];
 	p = finerPart;
@@ -162,12 +163,13 @@ void keepFinerLevel(const MeshView &mesh, int level, std::vector<detail::Partiti
 		c = c == kInvalidCell ? c : parentKey(c);
 	const LevelStats spent = lm.stats; // the time was spent all the same
 	lm = std::move(finer);
-	if (lm.positions.empty()) { // (dropped from `finer` where none was placed, see buildLevels)
-		lm.positions.resize(3 * lm.sourceVertex.size());
-		for (size_t v = 0; v < lm.sourceVertex.size(); ++v)
-			for (size_t k = 0; k < 3; ++k)
-				lm.positions[3 * v + k] = mesh.positions[3 * size_t(lm.sourceVertex[v]) + k];
-	}
+	lm.positions.resize(3 * lm.sourceVertex.size()); // (dropped from `finer`, see buildLevels)
+	for (size_t v = 0; v < lm.sourceVertex.size(); ++v)
+		for (size_t k = 0; k < 3; ++k)
+			lm.positions[3 * v + k] = mesh.positions[3 * size_t(lm.sourceVertex[v]) + k];
+	for (const auto &pv : finerPlaced) // (and its placed vertices)
+		for (size_t k = 0; k < 3; ++k)
+			lm.positions[3 * size_t(pv.first) + k] = pv.second[int(k)];
 	lm.inputSuperface = p.label;
 	lm.stats.secondsPartition = spent.secondsPartition;
 	lm.stats.secondsBorders = spent.secondsBorders;
@@ -355,6 +357,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 		const double setup = since(t0);
 		res.levels.reserve(size_t(params.maxLevel));
 		LevelMesh finer;     // the previous (finer) level
+		std::vector<std::pair<int32_t, Vec3>> finerPlaced; // its placed vertices: index, position
 		SplitCost finerCost; // (with the distance tolerance, see triangleShare)
 		const bool byFaces = !params.levelFaces.empty();
 		// faces mode: parts[level] is the level's merged partition before its fallbacks (what
@@ -391,7 +394,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			lm.stats.secondsPartition = partitionSeconds;
 			if (level < finest && lm.stats.faces > finer.stats.faces)
 				keepFinerLevel(mesh, level, parts, byFaces ? levelPart : parts[size_t(level) + 1],
-				               finer, lm);
+				               finer, finerPlaced, lm);
 			if (byFaces) {
 				levelPart = std::move(parts[size_t(level)]);
 				parts[size_t(level)] = std::move(merged);
@@ -418,9 +421,14 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			finer = std::move(lm);
 			// (kept for a coarser level that comes out with more faces; until then its positions
 			// and input labels are only memory: they are rebuilt from the input and the partition,
-			// the positions unless some were placed)
-			if (finer.stats.placedVertices == 0)
-				std::vector<double>().swap(finer.positions);
+			// and the few placed vertices kept apart)
+			finerPlaced.clear();
+			for (size_t v = 0; finer.stats.placedVertices > 0 && v < finer.sourceVertex.size(); ++v) {
+				const Vec3 p(&finer.positions[3 * v]);
+				if (!(p == Vec3(&mesh.positions[3 * size_t(finer.sourceVertex[v])])))
+					finerPlaced.emplace_back(int32_t(v), p);
+			}
+			std::vector<double>().swap(finer.positions);
 			std::vector<int32_t>().swap(finer.inputSuperface);
 		}
 		if (!report(1.0, "done"))

@@ -39,15 +39,23 @@ constexpr double kBoundEnough = 0.9;
 // go back to their input positions.
 constexpr uint8_t kHalvings = 2;
 
-// One point of the input under a triangle of the level: the signed distance r from the
-// triangle's plane, and per corner j the rate a[j] at which moving corner j along its normal
-// moves the plane there (barycentric coordinate times normal . triangle normal), in units of
-// 1/kRate (16 bytes a sample: they are the placement's memory).
-constexpr double kRate = 32767.0;
+// One point of the input under a triangle of the level: its barycentric coordinates b1, b2 in
+// the triangle (in units of 1/kUnit; b0 = 1 - b1 - b2) and its signed distance r from the
+// triangle's plane; 8 bytes, since the samples are the placement's memory. Per triangle, the
+// rate at which moving corner j along its normal moves the plane (normal . triangle normal; 0
+// for a corner that does not move) multiplies b_j.
+constexpr double kUnit = 65535.0;
 struct Sample {
-	int32_t tri;
-	int16_t a[3];
+	uint16_t b1, b2;
 	float r;
+};
+// The samples of a chunk of superfaces, by triangle (the chunk's triangles are a range of the
+// level's: first .. first + rate.size() / 3).
+struct ChunkSamples {
+	size_t first = 0;
+	std::vector<uint32_t> start; ///< per triangle of the chunk, its samples; + 1
+	std::vector<float> rate;     ///< 3 per triangle
+	std::vector<Sample> samples;
 };
 
 } // namespace
@@ -117,7 +125,7 @@ void placeVertices(const PlacementInput &pin, Chunks &chunks, Borders &b, Rings 
 	// the samples of each involved superface (per chunk, in superface order): its face
 	// centroids and vertices located in its triangles (a superface kept as its input faces
 	// holds them exactly: one sample per face, at zero); none where no corner moves
-	std::vector<std::vector<Sample>> chunkSamples(chunks.out.size());
+	std::vector<ChunkSamples> chunkSamples(chunks.out.size());
 	auto triUnitNormal = [&](size_t k) {
 		const int32_t *v = &lt.tris[3 * k];
 		const Vec3 n = (t.pos(v[1]) - t.pos(v[0])) ^ (t.pos(v[2]) - t.pos(v[0]));
@@ -125,30 +133,40 @@ void placeVertices(const PlacementInput &pin, Chunks &chunks, Borders &b, Rings 
 		return len > 0 ? n / len : Vec3(0, 0, 0);
 	};
 	chunks.forEach([&](size_t c, Scratch &w) {
-		std::vector<Sample> &samples = chunkSamples[c];
+		ChunkSamples &cs = chunkSamples[c];
+		const int32_t s0 = chunks.start[c], s1 = chunks.start[c + 1];
+		cs.first = s0 < s1 ? size_t(pin.cache[size_t(s0)].triBegin) : 0;
+		const size_t last = s0 < s1 ? size_t(pin.cache[size_t(s1 - 1)].triEnd) : 0;
+		const size_t ntc = last - cs.first;
+		cs.start.assign(ntc + 1, 0);
+		cs.rate.assign(3 * ntc, 0.0f);
+		std::vector<std::pair<uint32_t, Sample>> found; // (triangle of the chunk, sample)
 		auto add = [&](size_t k, const double bc[3], double r) {
 			const int32_t *v = &lt.tris[3 * k];
 			if (slot[size_t(v[0])] < 0 && slot[size_t(v[1])] < 0 && slot[size_t(v[2])] < 0)
-				return;
-			const Vec3 n = triUnitNormal(k);
+				return; // (no corner moves: nothing to fit)
 			Sample smp;
-			smp.tri = int32_t(k);
-			for (size_t j = 0; j < 3; ++j) {
-				const int32_t sj = slot[size_t(v[j])];
-				const double a = sj < 0 ? 0.0 : bc[j] * normal[size_t(sj)].dot(n);
-				smp.a[j] = int16_t(std::lround(std::max(-1.0, std::min(1.0, a)) * kRate));
-			}
+			smp.b1 = uint16_t(std::lround(bc[1] * kUnit));
+			smp.b2 = uint16_t(std::lround(std::min(bc[2], 1.0 - double(smp.b1) / kUnit) * kUnit));
 			smp.r = float(r);
-			samples.push_back(smp);
+			found.emplace_back(uint32_t(k - cs.first), smp);
 		};
-		for (int32_t s = chunks.start[c]; s < chunks.start[c + 1]; ++s) {
+		for (int32_t s = s0; s < s1; ++s) {
 			if (!involved[size_t(s)])
 				continue;
-			const Cached &cs = pin.cache[size_t(s)];
-			const size_t first = size_t(cs.triBegin), ntri = size_t(cs.triEnd - cs.triBegin);
+			const Cached &cr = pin.cache[size_t(s)];
+			const size_t first = size_t(cr.triBegin), ntri = size_t(cr.triEnd - cr.triBegin);
 			bool copied = true;
-			for (size_t k = first; k < first + ntri; ++k)
+			for (size_t k = first; k < first + ntri; ++k) {
 				copied = copied && !(lt.triBorder[k] & kNewTriangle);
+				const int32_t *v = &lt.tris[3 * k];
+				const Vec3 n = triUnitNormal(k);
+				for (size_t j = 0; j < 3; ++j) {
+					const int32_t sj = slot[size_t(v[j])];
+					cs.rate[3 * (k - cs.first) + j] =
+					    sj < 0 ? 0.0f : float(normal[size_t(sj)].dot(n));
+				}
+			}
 			if (copied || ntri == 1) {
 				const double third[3] = {1.0 / 3, 1.0 / 3, 1.0 / 3};
 				for (size_t k = first; k < first + ntri; ++k)
@@ -191,7 +209,15 @@ void placeVertices(const PlacementInput &pin, Chunks &chunks, Borders &b, Rings 
 				add(k, bc, (P - t.pos(lt.tris[3 * k])).dot(triUnitNormal(k)));
 			}
 		}
-		samples.shrink_to_fit();
+		// by triangle (in order of discovery within one: a counting sort)
+		for (const auto &f : found)
+			++cs.start[f.first + 1];
+		for (size_t k = 0; k < ntc; ++k)
+			cs.start[k + 1] += cs.start[k];
+		cs.samples.resize(found.size());
+		std::vector<uint32_t> fill(cs.start.begin(), cs.start.end() - 1);
+		for (const auto &f : found)
+			cs.samples[fill[f.first]++] = f.second;
 	});
 
 	// least squares for the moves d (along each vertex's normal): Jacobi iterations, in sample
@@ -201,19 +227,26 @@ void placeVertices(const PlacementInput &pin, Chunks &chunks, Borders &b, Rings 
 	for (int it = 0; it < kPlaceIterations; ++it) {
 		std::fill(num.begin(), num.end(), 0.0);
 		std::fill(den.begin(), den.end(), 0.0);
-		for (const std::vector<Sample> &samples : chunkSamples) // (in superface order)
-			for (const Sample &smp : samples) {
-				const int32_t *v = &lt.tris[3 * size_t(smp.tri)];
+		for (const ChunkSamples &cs : chunkSamples) // (in superface order)
+			for (size_t kc = 0; kc + 1 < cs.start.size(); ++kc) {
+				if (cs.start[kc] == cs.start[kc + 1])
+					continue;
+				const int32_t *v = &lt.tris[3 * (cs.first + kc)];
+				const float *rate = &cs.rate[3 * kc];
 				int32_t sl[3];
-				double a[3], res = smp.r;
-				for (size_t j = 0; j < 3; ++j) {
-					sl[j] = slot[size_t(v[j])], a[j] = double(smp.a[j]) / kRate;
-					if (sl[j] >= 0)
-						res -= a[j] * d[size_t(sl[j])];
-				}
+				double dj[3];
 				for (size_t j = 0; j < 3; ++j)
-					if (sl[j] >= 0)
-						num[size_t(sl[j])] += a[j] * res, den[size_t(sl[j])] += a[j] * a[j];
+					sl[j] = slot[size_t(v[j])], dj[j] = sl[j] < 0 ? 0.0 : d[size_t(sl[j])];
+				for (uint32_t q = cs.start[kc]; q < cs.start[kc + 1]; ++q) {
+					const Sample &smp = cs.samples[q];
+					const double b1 = double(smp.b1) / kUnit, b2 = double(smp.b2) / kUnit;
+					const double a[3] = {(1 - b1 - b2) * double(rate[0]), b1 * double(rate[1]),
+					                     b2 * double(rate[2])};
+					const double res = double(smp.r) - a[0] * dj[0] - a[1] * dj[1] - a[2] * dj[2];
+					for (size_t j = 0; j < 3; ++j)
+						if (sl[j] >= 0)
+							num[size_t(sl[j])] += a[j] * res, den[size_t(sl[j])] += a[j] * a[j];
+				}
 			}
 		for (size_t i = 0; i < ns; ++i)
 			if (den[i] > 0)
