@@ -342,3 +342,18 @@ TEST(Quality, placed_vertices_bring_a_curved_level_closer_and_leave_planes_in_pl
 			EXPECT_EQ(vpos(lm.positions, int32_t(v)), vpos(cube.positions, lm.sourceVertex[v]));
 	}
 }
+
+// Polished diagonals (DESIGN 28): anchor's conical part is a strip of long input triangles whose
+// diagonals lie on the surface; its finest level merges a few of them, and the Delaunay diagonals
+// of the same vertices cut across the cone (0.02 % of the diagonal away from it, the whole
+// tolerance) where flipping them back makes the level as exact as its input.
+TEST(Quality, polished_diagonals_keep_a_ruled_cad_surface_exact)
+{
+	const FlatMesh m = loadOff("anchor.off");
+	const double diag = bboxDiagonal(m.view());
+	const Result r = buildLevels(m.view(), Params());
+	ASSERT_TRUE(r.ok) << r.error;
+	const LevelMesh &finest = r.levels.front();
+	EXPECT_LT(finest.stats.faces, m.triangles.size() / 3); // (some faces merged)
+	EXPECT_LT(finest.stats.distanceBound, 1e-5 * diag);
+}

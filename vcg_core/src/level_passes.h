@@ -166,7 +166,11 @@ struct Scratch {
 	/// vertices (the gap peaks where the face crosses the triangle's edge)
 	std::vector<std::pair<double, int32_t>> farCorner;
 	FlipScratch flip;
-	std::vector<int32_t> localOf;    ///< jobFromTriangles: per input vertex, its job vertex (-1)
+	std::vector<int32_t> localOf; ///< jobFromTriangles: per input vertex, its job vertex (-1)
+	// polishDiagonals: the accepted pass, put back if the polished one is not better
+	std::vector<int32_t> keptTris;
+	std::vector<uint8_t> keptBorder;
+	std::vector<float> keptDev, keptGap, keptTex;
 	std::vector<int32_t> asideVerts; ///< retryWithFlips: inside vertices set aside
 	std::vector<float> asideUV;
 	// distance bound (distanceBound): the new triangles in 2D, a grid over them, candidates
@@ -404,15 +408,16 @@ inline void offerInsertion(const TriangulationInput &in, const Scratch &w, const
 }
 /// Flips edges of w.job's triangulation of superface s (not ring edges; two triangles forming a
 /// strictly convex quadrilateral) where that brings the farther of the two triangles closer to
-/// the vertex queries under them, starting from the triangles farther than kFlipFrom times the
-/// tolerance (surface_flips.cpp); keeps job.tris, constrained and queryTri consistent. False if
-/// it flipped no edge.
+/// the vertex queries under them (with `centroids`, the face centroid queries too), starting from
+/// the triangles farther than `from` times the tolerance (surface_flips.cpp); keeps job.tris,
+/// constrained and queryTri consistent. False if it flipped no edge.
 constexpr double kFlipFrom = 0.5;
 constexpr size_t kFlipBudget = 4; ///< flips tried per triangle, at most
 /// Superfaces of more faces are not given flips: on the big curved superfaces of coarse levels a
 /// pass they rescue is rare, and each try costs a pass.
 constexpr int32_t kFlipMaxFaces = 4096;
-bool flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, Scratch &w);
+bool flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, Scratch &w,
+                       double from = kFlipFrom, bool centroids = false);
 /// The distance tolerance on superface s, just triangulated from triangle firstTri of o.
 Failure distanceCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
                       Scratch &w, const ChunkOut &o, std::vector<float> &gap);

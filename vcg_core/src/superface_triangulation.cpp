@@ -591,7 +591,8 @@ bool jobFromTriangles(const TriangulationInput &in, int32_t s, const int32_t *tr
 		w.job.queryTri.assign(nq, -1);
 		for (size_t q = 0; q < nq; ++q) {
 			const double *p = &w.job.queryXY[2 * q];
-			const size_t c = size_t(grid.at(p[1], 1)) * size_t(grid.side) + size_t(grid.at(p[0], 0));
+			const size_t c =
+			    size_t(grid.at(p[1], 1)) * size_t(grid.side) + size_t(grid.at(p[0], 0));
 			double best = -HUGE_VAL;
 			for (int32_t i = w.cellStart[c]; i < w.cellStart[c + 1]; ++i) {
 				const size_t k = size_t(w.cellTri[size_t(i)]);
@@ -600,7 +601,8 @@ bool jobFromTriangles(const TriangulationInput &in, int32_t s, const int32_t *tr
 				if (!(std::fabs(area) > 0))
 					continue;
 				// the smallest barycentric coordinate of p (>= 0: inside or on the triangle)
-				const double m = std::min({orient2(b, d, p), orient2(d, a, p), orient2(a, b, p)}) / area;
+				const double m =
+				    std::min({orient2(b, d, p), orient2(d, a, p), orient2(a, b, p)}) / area;
 				if (m > best)
 					best = m, w.job.queryTri[q] = int32_t(k);
 				if (m >= 0)
@@ -626,6 +628,60 @@ Failure checkTriangles(const TriangulationInput &in, int32_t s, const Vec3 &N, S
 		writeDeviations(in, s, w, m);
 	return f;
 }
+
+namespace {
+
+// Beyond the paper (DESIGN 28): an accepted pass of a superface that may get flips (triangles
+// from firstTri of o, its triangulation in w.job, its distance bound `bound`) is tried once more
+// with its diagonals flipped where that brings the triangles closer to the input vertices and face
+// centroids under them, from half the tolerance (flipTowardSurface); the polished triangles are
+// kept if they pass every check and their distance bound is not above `bound`, else the accepted
+// ones are put back with their measures. (Delaunay picks the diagonals by angles alone: on a ruled
+// or curved part it may cut across the surface where the input's diagonal, or another, lies on it.)
+// The accepted pass's deviations are written here.
+void polishDiagonals(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
+                     double bound, Scratch &w, ChunkOut &o, FaceMeasures &m)
+{
+	writeDeviations(in, s, w, m);
+	if (!flipTowardSurface(in, s, N, w, kFlipFrom, true))
+		return; // (no edge to flip: nothing is measured again)
+	const int32_t fb = in.faces.begin(s), fe = in.faces.end(s);
+	w.keptTris.assign(o.tris.begin() + std::ptrdiff_t(3 * firstTri), o.tris.end());
+	w.keptBorder.assign(o.triBorder.begin() + std::ptrdiff_t(firstTri), o.triBorder.end());
+	w.keptDev.clear(), w.keptGap.clear(), w.keptTex.clear();
+	for (int32_t i = fb; i < fe; ++i) {
+		const size_t f = size_t(in.faces.face[size_t(i)]);
+		w.keptDev.push_back(m.dev[f]);
+		if (!m.gap.empty())
+			w.keptGap.push_back(m.gap[f]);
+		if (!m.tex.empty())
+			w.keptTex.push_back(m.tex[f]);
+	}
+	o.truncate(firstTri);
+	resetMeasures(in, s, m);
+	bool inside = false;
+	double after = 0;
+	if (triangulateAndCheck(in, s, N, firstTri, w, o, m, true, inside, true, &after) ==
+	        Failure::None &&
+	    !(after > bound)) {
+		writeDeviations(in, s, w, m);
+		return;
+	}
+	w.devMeasured = 0; // (the polished pass's deviations are not written)
+	o.truncate(firstTri);
+	o.tris.insert(o.tris.end(), w.keptTris.begin(), w.keptTris.end());
+	o.triBorder.insert(o.triBorder.end(), w.keptBorder.begin(), w.keptBorder.end());
+	for (int32_t i = fb; i < fe; ++i) {
+		const size_t f = size_t(in.faces.face[size_t(i)]), j = size_t(i - fb);
+		m.dev[f] = w.keptDev[j];
+		if (!m.gap.empty())
+			m.gap[f] = w.keptGap[j];
+		if (!m.tex.empty())
+			m.tex[f] = w.keptTex[j];
+	}
+}
+
+} // namespace
 
 Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, ChunkOut &o,
                       FaceMeasures &m)
@@ -653,9 +709,14 @@ Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, Chunk
 	    in.limits.maxDistance > 0 && in.faces.end(s) - in.faces.begin(s) <= kFlipMaxFaces;
 	for (int pass = 0;; ++pass) {
 		bool inside = false; // the failure is one inside vertices can fix
-		const Failure f = triangulateAndCheck(in, s, N, firstTri, w, o, m, pass > 0, inside);
+		double bound = 0;
+		const Failure f =
+		    triangulateAndCheck(in, s, N, firstTri, w, o, m, pass > 0, inside, false, &bound);
 		if (f == Failure::None) {
-			writeDeviations(in, s, w, m);
+			if (flips && o.tris.size() / 3 - firstTri > 1) // (one triangle: no job was run)
+				polishDiagonals(in, s, N, firstTri, bound, w, o, m);
+			else
+				writeDeviations(in, s, w, m);
 			++o.retriangulated;
 			return f;
 		}

@@ -4,7 +4,8 @@
 // (the two forming a convex quadrilateral in the projection) is kept if it brings the farther of
 // the two closer to the vertices under them. Fewer superfaces then need inside vertices or a
 // split (greedy terrain simplification with data-dependent triangulation, as Garland and
-// Heckbert's terrain work does).
+// Heckbert's terrain work does). The same flips, measured at the face centroids too, polish the
+// accepted triangulation of a superface (polishDiagonals, superface_triangulation.cpp).
 #include "level_passes.h"
 
 namespace gausslod {
@@ -30,6 +31,8 @@ struct Mesh2 {
 	size_t faces;                      ///< centroid queries come first, then vertex queries
 	const Vec3 &N;
 	const LevelLimits &limits;
+	/// with the face centroids' distances too: the superface's faces (else the vertices decide)
+	const int32_t *centroidFace;
 
 	const double *xy(int32_t v) const { return &job.xy[2 * size_t(v)]; }
 	Vec3 pos(int32_t v) const { return in.out(verts[size_t(v)]); }
@@ -50,12 +53,18 @@ struct Mesh2 {
 			return -1;
 		double worst = 0;
 		for (int32_t q = head; q >= 0; q = f.next[size_t(q)]) {
-			if (size_t(q) < faces)
+			if (size_t(q) < faces && !centroidFace)
 				continue; // (a face centroid: the vertices decide)
 			if (side && sign * orient(side, side + 2, &job.queryXY[2 * size_t(q)]) < 0)
 				continue;
-			const int32_t v = f.queryVertex[size_t(q) - faces];
-			worst = std::max(worst, std::fabs((t.pos(v) - A).dot(n)) / div);
+			Vec3 p;
+			if (size_t(q) < faces) {
+				const int32_t *c = &t.T[3 * size_t(centroidFace[q])];
+				p = (t.pos(c[0]) + t.pos(c[1]) + t.pos(c[2])) / 3.0;
+			} else {
+				p = t.pos(f.queryVertex[size_t(q) - faces]);
+			}
+			worst = std::max(worst, std::fabs((p - A).dot(n)) / div);
 		}
 		return worst;
 	}
@@ -63,7 +72,8 @@ struct Mesh2 {
 
 } // namespace
 
-bool flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, Scratch &w)
+bool flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, Scratch &w,
+                       double from, bool centroids)
 {
 	TriangulationJob &job = w.job;
 	const size_t ntri = job.tris.size() / 3;
@@ -72,7 +82,9 @@ bool flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, S
 	if (ntri < 2 || nq <= faces || w.flip.queryVertex.size() != nq - faces)
 		return false;
 	FlipScratch &f = w.flip;
-	Mesh2 m{job, f, in, in.t, w.ringVerts, faces, N, in.limits};
+	Mesh2 m{job,  f,           in,
+	        in.t, w.ringVerts, faces,
+	        N,    in.limits,   centroids ? &in.faces.face[size_t(in.faces.begin(s))] : nullptr};
 	// per triangle, its queries (linked lists)
 	f.head.assign(ntri, -1);
 	f.next.assign(nq, -1);
@@ -82,7 +94,7 @@ bool flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, S
 			f.next[q] = f.head[size_t(k)], f.head[size_t(k)] = int32_t(q);
 	}
 	f.err.resize(ntri);
-	const double threshold = kFlipFrom * in.limits.maxDistance;
+	const double threshold = from * in.limits.maxDistance;
 	bool any = false;
 	for (size_t k = 0; k < ntri; ++k) {
 		const int32_t *v = &job.tris[3 * k];
