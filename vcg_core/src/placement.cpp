@@ -124,7 +124,8 @@ void placeVertices(const PlacementInput &pin, Chunks &chunks, Borders &b, Rings 
 
 	// the samples of each involved superface (per chunk, in superface order): its face
 	// centroids and vertices located in its triangles (a superface kept as its input faces
-	// holds them exactly: one sample per face, at zero); none where no corner moves
+	// holds them exactly: one sample per face, at zero; so does, as if it held them, one made of
+	// a single triangle, whose queries are never located); none where no corner moves
 	std::vector<ChunkSamples> chunkSamples(chunks.out.size());
 	auto triUnitNormal = [&](size_t k) {
 		const int32_t *v = &lt.tris[3 * k];
