@@ -59,7 +59,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	params.mergeDist = (r.byte() % 16) * 0.02;
 	const uint8_t limits = r.byte();
 	params.normalLimit = (limits % 4) * 0.75;
-	params.maxDistance = ((limits >> 2) % 4) * 0.01; // (same byte: earlier inputs keep their meaning)
+	params.maxDistance =
+	    ((limits >> 2) % 4) * 0.01; // (same byte: earlier inputs keep their meaning)
 	const size_t nv = 3 + r.byte() % 40;
 	std::vector<double> pos(3 * nv);
 	const uint8_t scaleByte = r.byte();
@@ -86,12 +87,31 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		return 0;
 	}
 	const auto in = edgeDefects(tris);
+	const double diag = gausslod::bboxDiagonal(view);
 	size_t prevFaces = SIZE_MAX;
 	for (const gausslod::LevelMesh &lm : res.levels) {
 		const size_t nvOut = lm.positions.size() / 3;
 		for (int32_t v : lm.triangles)
 			if (v < 0 || size_t(v) >= nvOut)
 				fail("vertex index out of range");
+		// each output vertex is its input vertex, placed (if at all) within half the tolerance
+		const double tol = params.maxDistance * diag *
+		                   std::pow(params.distanceGrowth, params.maxLevel - 1 - lm.stats.level);
+		if (lm.stats.maxPlacement > 0.5 * tol * (1 + 1e-9) || lm.sourceVertex.size() != nvOut)
+			fail("a vertex placed farther than half the level's tolerance");
+		for (size_t v = 0; v < nvOut; ++v) {
+			const int32_t s = lm.sourceVertex[v];
+			if (s < 0 || size_t(s) >= nv)
+				fail("source vertex out of range");
+			double d2 = 0;
+			for (size_t k = 0; k < 3; ++k) {
+				const double e = lm.positions[3 * v + k] - pos[3 * size_t(s) + k];
+				d2 += e * e;
+			}
+			if (std::sqrt(d2) > lm.stats.maxPlacement * (1 + 1e-9) + 1e-12 * diag)
+				fail(
+				    "an output vertex farther from its input vertex than the level's largest move");
+		}
 		for (double x : lm.positions)
 			if (!std::isfinite(x))
 				fail("non-finite output coordinate");
