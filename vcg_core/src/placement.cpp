@@ -302,7 +302,7 @@ void placeVertices(const PlacementInput &pin, Chunks &chunks, Borders &b, Rings 
 	for (size_t i = 0; i < ns; ++i)
 		if (step[i] <= kHalvings)
 			markAround(size_t(vertexOf[i]), check);
-	std::vector<uint8_t> everChecked(nS, 0);
+	std::vector<uint8_t> everChecked(nS, 0), halved(ns);
 	for (;;) {
 		std::fill(failed.begin(), failed.end(), uint8_t(0));
 		chunks.forEach([&](size_t c, Scratch &w) {
@@ -361,6 +361,7 @@ void placeVertices(const PlacementInput &pin, Chunks &chunks, Borders &b, Rings 
 		// them (the failed ones too) are checked again
 		std::fill(check.begin(), check.end(), uint8_t(0));
 		bool again = false;
+		std::fill(halved.begin(), halved.end(), uint8_t(0));
 		for (size_t s = 0; s < nS; ++s) {
 			if (!failed[s])
 				continue;
@@ -369,8 +370,9 @@ void placeVertices(const PlacementInput &pin, Chunks &chunks, Borders &b, Rings 
 				for (size_t j = 0; j < 3; ++j) {
 					const size_t v = size_t(lt.tris[3 * k + j]);
 					const int32_t i = slot[v];
-					if (i < 0 || step[size_t(i)] > kHalvings)
+					if (i < 0 || step[size_t(i)] > kHalvings || halved[size_t(i)])
 						continue;
+					halved[size_t(i)] = 1; // (once per round, however many triangles hold it)
 					++step[size_t(i)];
 					place(size_t(i));
 					markAround(v, check);
