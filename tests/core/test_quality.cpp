@@ -357,3 +357,26 @@ TEST(Quality, polished_diagonals_keep_a_ruled_cad_surface_exact)
 	EXPECT_LT(finest.stats.faces, m.triangles.size() / 3); // (some faces merged)
 	EXPECT_LT(finest.stats.distanceBound, 1e-5 * diag);
 }
+
+// DESIGN 29: anchor's LOD3 came out 2 faces lighter than LOD4 (1,012 against 1,014) at 300 times
+// its distance bound; a coarser level farther from the input than the finer one must be at least
+// kMinLevelSaving (1 %) lighter, else it is the finer level. Every level keeps the rule.
+TEST(Quality, a_coarser_level_that_saves_almost_nothing_is_the_finer_level)
+{
+	const FlatMesh m = loadOff("anchor.off");
+	const Result r = buildLevels(m.view(), Params());
+	ASSERT_TRUE(r.ok) << r.error;
+	ASSERT_GE(r.levels.size(), 2u);
+	EXPECT_TRUE(r.levels[1].stats.reusedFiner); // (LOD3, the level that had 2 faces fewer)
+	for (size_t i = 1; i < r.levels.size(); ++i) {
+		const LevelStats &finer = r.levels[i - 1].stats, &s = r.levels[i].stats;
+		EXPECT_LE(s.faces, finer.faces) << "level " << s.level;
+		if (s.distanceBound > finer.distanceBound)
+			EXPECT_LE(double(s.faces), 0.99 * double(finer.faces)) << "level " << s.level;
+		if (s.reusedFiner) { // (the finer level's mesh, and its figures)
+			EXPECT_EQ(s.faces, finer.faces);
+			EXPECT_EQ(s.distanceBound, finer.distanceBound);
+			EXPECT_EQ(r.levels[i].triangles, r.levels[i - 1].triangles);
+		}
+	}
+}

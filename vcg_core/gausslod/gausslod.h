@@ -266,8 +266,10 @@ struct LevelStats {
 	                             ///< the diagonal (0 = none); faces mode: the one the search chose
 	int trials = 1;              ///< builds of the level (faces mode: the tolerance search's)
 	bool reusedFiner = false;    ///< the merged partition gave more faces than the next finer
-	                             ///< level: this level is that level's mesh (face counts stay
-	                             ///< monotone; the finer level keeps this level's bound too)
+	                             ///< level (or, in angle mode, a larger distance bound with not
+	                             ///< 1 % fewer faces: DESIGN 29): this level is that level's mesh
+	                             ///< (face counts stay monotone; the finer level keeps this
+	                             ///< level's bound too)
 	InputStats input;            ///< what this level's input repairs were (Result::input)
 };
 

@@ -148,6 +148,12 @@ bool prepare(const MeshView &input, const Params &params, Result &res, MeshView 
 	return true;
 }
 
+// Beyond the paper (DESIGN 29), in angle mode: a coarser level farther from the input than the
+// finer one must have at least this share of its faces fewer, else it is the finer level (its
+// extra error bought next to nothing: anchor's LOD3 had 2 faces fewer than LOD4 at 700 times
+// its Hausdorff distance).
+constexpr double kMinLevelSaving = 0.01;
+
 // A coarser level that came out with more faces than the finer one (2.5 promises monotone face
 // counts) is the finer level's mesh: its partition, with the cells of this level.
 void keepFinerLevel(const MeshView &mesh, int level, std::vector<detail::Partition> &parts,
@@ -360,6 +366,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 		std::vector<std::pair<int32_t, Vec3>> finerPlaced; // its placed vertices: index, position
 		SplitCost finerCost; // (with the distance tolerance, see triangleShare)
 		const bool byFaces = !params.levelFaces.empty();
+		const bool byAngle = !byFaces && params.levelDistances.empty();
 		// faces mode: parts[level] is the level's merged partition before its fallbacks (what
 		// the coarser levels merge), levelPart the one its mesh has (see DESIGN.md)
 		Partition merged, levelPart;
@@ -392,7 +399,12 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			const double chosen = lm.stats.tolerance;
 			const int trials = lm.stats.trials;
 			lm.stats.secondsPartition = partitionSeconds;
-			if (level < finest && lm.stats.faces > finer.stats.faces)
+			// (a coarser level must be lighter than the finer one; in angle mode, if it is farther
+			// from the input, by at least kMinLevelSaving)
+			if (level < finest &&
+			    (lm.stats.faces > finer.stats.faces ||
+			     (byAngle && lm.stats.distanceBound > finer.stats.distanceBound &&
+			      double(lm.stats.faces) > (1 - kMinLevelSaving) * double(finer.stats.faces))))
 				keepFinerLevel(mesh, level, parts, byFaces ? levelPart : parts[size_t(level) + 1],
 				               finer, finerPlaced, lm);
 			if (byFaces) {
