@@ -209,7 +209,9 @@ QString levelLogLine(const gausslod::LevelStats &s, double diag)
 		            .arg(thousands(s.placedVertices))
 		            .arg(QString::number(100.0 * s.maxPlacement / diag, 'f', 4));
 	if (s.reusedFiner)
-		line += QString("; same mesh as LOD%1 (merging gave more faces)").arg(s.level + 1);
+		line += QString("; same mesh as LOD%1 (merging gave more faces, or under 1 % fewer at a "
+		                "larger distance)")
+		            .arg(s.level + 1);
 	if (s.targetFaces > 0 || s.targetDistance >= 0)
 		line += QString("; target %1 %2, distance tolerance %3 % of the diagonal (%4 build%5)")
 		            .arg(s.targetDistance >= 0
