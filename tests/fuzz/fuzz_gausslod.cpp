@@ -89,7 +89,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	const auto in = edgeDefects(tris);
 	const double diag = gausslod::bboxDiagonal(view);
 	size_t prevFaces = SIZE_MAX;
+	const gausslod::LevelMesh *finer = nullptr;
 	for (const gausslod::LevelMesh &lm : res.levels) {
+		// DESIGN 29 (angle mode, the only mode here): a coarser level farther from the input is
+		// 1 % lighter; a reused level is the finer level's mesh and figures
+		if (finer && lm.stats.distanceBound > finer->stats.distanceBound &&
+		    double(lm.stats.faces) > 0.99 * double(finer->stats.faces))
+			fail("a coarser level farther from the input and not 1 % lighter");
+		if (finer && lm.stats.reusedFiner &&
+		    (lm.triangles != finer->triangles || lm.positions != finer->positions ||
+		     lm.stats.distanceBound != finer->stats.distanceBound))
+			fail("a reused level that is not its finer level");
+		finer = &lm;
 		const size_t nvOut = lm.positions.size() / 3;
 		for (int32_t v : lm.triangles)
 			if (v < 0 || size_t(v) >= nvOut)
