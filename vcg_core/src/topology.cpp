@@ -346,7 +346,7 @@ void buildFaceGrid(Topology &t)
 	// margin of one step (far above the rounding of the dot products that use it)
 	g.cone.resize(buckets);
 	std::vector<Vec3> normal; // of a bucket's faces (each computed once: see FaceMeasure)
-	for (size_t c = 0; c < buckets; ++c) {
+	auto cone = [&](size_t c) {
 		Vec3 sum(0, 0, 0);
 		normal.clear();
 		for (int32_t i = g.start[c]; i < g.start[c + 1]; ++i) {
@@ -356,7 +356,7 @@ void buildFaceGrid(Topology &t)
 		const double len = sum.Norm();
 		if (!(len > 0)) {
 			g.cone[c] = FaceGrid::packCone(0, 0, 0, 255);
-			continue;
+			return;
 		}
 		int q[3];
 		for (int k = 0; k < 3; ++k)
@@ -371,7 +371,22 @@ void buildFaceGrid(Topology &t)
 			s = std::min(255, int(std::ceil(sine * 254.0)) + 1);
 		}
 		g.cone[c] = FaceGrid::packCone(q[0], q[1], q[2], s);
-	}
+	};
+	// buckets in the order of their first face, not of their hash: the faces of consecutive
+	// buckets are then near each other in memory (the same cones; measured on the 1M mesh, the
+	// cones took 0.2 s in hash order, most of it waiting for memory)
+	std::vector<uint8_t> done(buckets, 0);
+	for (size_t f = 0; f < t.nF; ++f)
+		if (t.faceValid[f])
+			forCells(f, [&](uint64_t c) {
+				if (!done[c]) {
+					done[c] = 1;
+					cone(size_t(c));
+				}
+			});
+	for (size_t c = 0; c < buckets; ++c) // (buckets of no face, and of the big faces only)
+		if (!done[c])
+			cone(c);
 }
 
 // Delimiters (MeshView::faceKey, cornerKey): twin edges whose faces differ in key, or in the
