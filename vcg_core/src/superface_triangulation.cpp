@@ -587,6 +587,9 @@ bool jobFromTriangles(const TriangulationInput &in, int32_t s, const int32_t *tr
 			}
 		TriangleGrid grid;
 		grid.build(w.boundXY.data(), ntri, w);
+		w.triArea.resize(ntri); // (twice each triangle's signed area, once)
+		for (size_t k = 0; k < ntri; ++k)
+			w.triArea[k] = orient2(&w.boundXY[6 * k], &w.boundXY[6 * k + 2], &w.boundXY[6 * k + 4]);
 		const size_t nq = w.job.queryXY.size() / 2;
 		w.job.queryTri.assign(nq, -1);
 		for (size_t q = 0; q < nq; ++q) {
@@ -597,16 +600,20 @@ bool jobFromTriangles(const TriangulationInput &in, int32_t s, const int32_t *tr
 			for (int32_t i = w.cellStart[c]; i < w.cellStart[c + 1]; ++i) {
 				const size_t k = size_t(w.cellTri[size_t(i)]);
 				const double *a = &w.boundXY[6 * k], *b = a + 2, *d = a + 4;
-				const double area = orient2(a, b, d);
+				const double area = w.triArea[k];
 				if (!(std::fabs(area) > 0))
 					continue;
-				// the smallest barycentric coordinate of p (>= 0: inside or on the triangle)
-				const double m =
-				    std::min({orient2(b, d, p), orient2(d, a, p), orient2(a, b, p)}) / area;
+				// the smallest barycentric coordinate of p, lo / area (>= 0: inside or on the
+				// triangle, the first such one is taken; its sign is lo's or the opposite, so the
+				// division is only needed to rank the triangles p is outside of)
+				const double lo = std::min({orient2(b, d, p), orient2(d, a, p), orient2(a, b, p)});
+				if (area > 0 ? lo >= 0 : lo <= 0) {
+					w.job.queryTri[q] = int32_t(k);
+					break;
+				}
+				const double m = lo / area;
 				if (m > best)
 					best = m, w.job.queryTri[q] = int32_t(k);
-				if (m >= 0)
-					break;
 			}
 		}
 	} else if (w.ringVerts.size() != 3) {
