@@ -155,7 +155,8 @@ bool prepare(const MeshView &input, const Params &params, Result &res, MeshView 
 constexpr double kMinLevelSaving = 0.01;
 
 // A coarser level that came out with more faces than the finer one (2.5 promises monotone face
-// counts) is the finer level's mesh: its partition, with the cells of this level.
+// counts), or farther from the input for under kMinLevelSaving fewer, is the finer level's mesh:
+// its partition, with the cells of this level.
 void keepFinerLevel(const MeshView &mesh, int level, std::vector<detail::Partition> &parts,
                     const detail::Partition &finerPart, LevelMesh &finer,
                     const std::vector<std::pair<int32_t, detail::Vec3>> &finerPlaced, LevelMesh &lm)

@@ -174,6 +174,7 @@ struct Scratch {
 	std::vector<int32_t> asideVerts; ///< retryWithFlips: inside vertices set aside
 	std::vector<float> asideUV;
 	// distance bound (distanceBound): the new triangles in 2D, a grid over them, candidates
+	// (jobFromTriangles uses boundXY and triArea too, for its signed areas, before any bound)
 	std::vector<double> boundXY, triArea, triCovered, triNN;
 	std::vector<int8_t> triSign;
 	std::vector<int32_t> cellStart, cellFill, cellTri, boundCand;

@@ -384,7 +384,7 @@ void buildFaceGrid(Topology &t)
 					cone(size_t(c));
 				}
 			});
-	for (size_t c = 0; c < buckets; ++c) // (buckets of no face, and of the big faces only)
+	for (size_t c = 0; c < buckets; ++c) // (the empty buckets: big faces are in no bucket)
 		if (!done[c])
 			cone(c);
 }
