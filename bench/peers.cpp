@@ -1,12 +1,16 @@
 // bench_peers: peer simplifiers run in-process to a target face count.
 //   bench_peers meshopt IN TARGET_FACES OUT.ply
 //   bench_peers cgal_gh IN TARGET_FACES OUT.ply
+//   bench_peers cgal_gh_input_positions IN TARGET_FACES OUT.ply
 //   bench_peers openmesh_quadric IN TARGET_FACES OUT.ply
 //   bench_peers openmesh_nd IN ANGLE_DEG OUT.ply
 // meshopt: meshoptimizer's meshopt_simplify (edge collapse with quadric error; version from
 //          MESHOPTIMIZER_VERSION), options 0, target error unbounded so only the count stops it.
 // cgal_gh: CGAL Surface_mesh_simplification::edge_collapse with GarlandHeckbert_plane_policies
 //          (classic Garland-Heckbert plane quadrics, cost and placement), stopped at the face count.
+// cgal_gh_input_positions: the same collapses, then every vertex left back at the input position
+//          of the input vertex it is (a diagnostic, not a peer: what GH's choice of vertices and
+//          connectivity gives without its placement; DESIGN 30).
 // openmesh_*: OpenMesh's DecimaterT with ModQuadricT, alone to the face count or with
 //          ModNormalDeviationT as far as the angle allows (peers_openmesh.cpp).
 // Timing: wall clock in-process, from the flat arrays in memory to the simplified mesh (for CGAL
@@ -62,7 +66,7 @@ int runMeshopt(const bench::Flat &in, size_t target, const std::string &out)
 	return 0;
 }
 
-int runCgal(const bench::Flat &in, size_t target, const std::string &out)
+int runCgal(const bench::Flat &in, size_t target, const std::string &out, bool inputPositions)
 {
 	const double t0 = bench::now();
 	SM sm;
@@ -81,6 +85,11 @@ int runCgal(const bench::Flat &in, size_t target, const std::string &out)
 	const int removed = SMS::edge_collapse(
 	    sm, stop, CGAL::parameters::get_cost(gh.get_cost()).get_placement(gh.get_placement()));
 	const double t2 = bench::now();
+	if (inputPositions) // (vertex indices are the input's until the garbage is collected)
+		for (SM::Vertex_index v : sm.vertices()) {
+			const size_t i = size_t(v);
+			sm.point(v) = K::Point_3(in.pos[3 * i], in.pos[3 * i + 1], in.pos[3 * i + 2]);
+		}
 	sm.collect_garbage();
 	std::vector<double> pos;
 	std::vector<uint32_t> tri;
@@ -96,9 +105,10 @@ int runCgal(const bench::Flat &in, size_t target, const std::string &out)
 		std::fprintf(stderr, "bench_peers: cannot write %s\n", out.c_str());
 		return 1;
 	}
-	std::printf("{\"method\":\"cgal_gh\",\"version\":%d,\"target\":%zu,\"faces\":%zu,\"seconds\":%.6f,"
+	std::printf("{\"method\":\"%s\",\"version\":%d,\"target\":%zu,\"faces\":%zu,\"seconds\":%.6f,"
 	            "\"collapse_seconds\":%.6f,\"removed_edges\":%d,\"skipped_input_faces\":%zu,\"file\":%s}\n",
-	            CGAL_VERSION_NR / 1000, target, tri.size() / 3, t2 - t0, t2 - t1, removed, skipped,
+	            inputPositions ? "cgal_gh_input_positions" : "cgal_gh", CGAL_VERSION_NR / 1000, target,
+	            tri.size() / 3, t2 - t0, t2 - t1, removed, skipped,
 	            bench::jsonStr(out).c_str());
 	return 0;
 }
@@ -108,7 +118,8 @@ int runCgal(const bench::Flat &in, size_t target, const std::string &out)
 int main(int argc, char **argv)
 {
 	if (argc != 5) {
-		std::fprintf(stderr, "usage: bench_peers meshopt|cgal_gh|openmesh_quadric IN TARGET_FACES OUT.ply\n"
+		std::fprintf(stderr, "usage: bench_peers meshopt|cgal_gh|cgal_gh_input_positions|openmesh_quadric "
+		                     "IN TARGET_FACES OUT.ply\n"
 		                     "       bench_peers openmesh_nd IN ANGLE_DEG OUT.ply\n");
 		return 2;
 	}
@@ -130,8 +141,8 @@ int main(int argc, char **argv)
 	m.Clear();
 	if (method == "meshopt")
 		return runMeshopt(flat, size_t(target), out);
-	if (method == "cgal_gh")
-		return runCgal(flat, size_t(target), out);
+	if (method == "cgal_gh" || method == "cgal_gh_input_positions")
+		return runCgal(flat, size_t(target), out, method != "cgal_gh");
 	if (method == "openmesh_quadric")
 		return runOpenMesh(flat, false, double(target), out);
 	if (byAngle)
