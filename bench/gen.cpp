@@ -4,6 +4,8 @@
 //   bench_gen sphere SEG RINGS OUT   UV sphere, radius 1 (SEG around, RINGS from pole to pole)
 //   bench_gen bumpy SEG RINGS OUT    UV sphere with smooth bumps: r = 1 + 0.08 sin(6t) cos(5p) + ...
 //   bench_gen convert IN OUT         any format VCG reads (OFF, OBJ, STL, PLY) -> binary PLY
+//   bench_gen subdivide K IN OUT     IN's triangles each split K times into 4 at their edge
+//                                    midpoints (flat: the same surface, 4^K times the faces)
 // All meshes are closed, 2-manifold and outward oriented. Deterministic (fixed seed).
 #include "bench_mesh.h"
 
@@ -18,7 +20,7 @@ namespace {
 int usage()
 {
 	std::fprintf(stderr, "usage: bench_gen cube N OUT [NOISE] | sphere SEG RINGS OUT | "
-	                     "bumpy SEG RINGS OUT | convert IN OUT\n");
+	                     "bumpy SEG RINGS OUT | convert IN OUT | subdivide K IN OUT\n");
 	return 2;
 }
 
@@ -116,6 +118,43 @@ int convert(const std::string &in, const std::string &out)
 	return bench::writePly(out, f.pos, f.tri) ? 0 : 1;
 }
 
+// Each triangle into 4 at its edge midpoints, K times; a midpoint is shared by the edge's faces.
+int subdivide(int k, const std::string &in, const std::string &out)
+{
+	bench::FMesh m;
+	std::string err;
+	if (!bench::load(m, in, err)) {
+		std::fprintf(stderr, "bench_gen: cannot read %s: %s\n", in.c_str(), err.c_str());
+		return 1;
+	}
+	const bench::Flat f = bench::flatten(m);
+	std::vector<double> pos(f.pos.begin(), f.pos.end());
+	std::vector<uint32_t> tri = f.tri;
+	for (int round = 0; round < k; ++round) {
+		std::map<std::pair<uint32_t, uint32_t>, uint32_t> mid;
+		auto midpoint = [&](uint32_t a, uint32_t b) {
+			const auto key = std::make_pair(std::min(a, b), std::max(a, b));
+			auto it = mid.find(key);
+			if (it != mid.end())
+				return it->second;
+			const uint32_t id = uint32_t(pos.size() / 3);
+			for (int c = 0; c < 3; ++c)
+				pos.push_back(0.5 * (pos[3 * a + uint32_t(c)] + pos[3 * b + uint32_t(c)]));
+			mid.emplace(key, id);
+			return id;
+		};
+		std::vector<uint32_t> next;
+		next.reserve(4 * tri.size());
+		for (size_t t = 0; t < tri.size(); t += 3) {
+			const uint32_t a = tri[t], b = tri[t + 1], c = tri[t + 2];
+			const uint32_t ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+			next.insert(next.end(), {a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca});
+		}
+		tri.swap(next);
+	}
+	return bench::writePly(out, pos, tri) ? 0 : 1;
+}
+
 } // namespace
 
 int main(int argc, char **argv)
@@ -129,5 +168,7 @@ int main(int argc, char **argv)
 		return sphere(std::atoi(argv[2]), std::atoi(argv[3]), argv[4], mode == "bumpy");
 	if (mode == "convert" && argc == 4)
 		return convert(argv[2], argv[3]);
+	if (mode == "subdivide" && argc == 5)
+		return subdivide(std::atoi(argv[2]), argv[3], argv[4]);
 	return usage();
 }
