@@ -340,16 +340,18 @@ std::string levelJson(const gausslod::Params &p, const Outcome &o, size_t i)
 	              s.maxPlacement);
 	std::snprintf(buf, sizeof buf,
 	              "{\"level\":%d,\"faces\":%zu,\"vertices\":%zu,\"superfaces\":%zu,"
-	              "\"fallbacks\":%zu,\"retriangulated\":%zu,\"bound_deg\":%.4f,"
-	              "\"max_dev_deg\":%.4f,\"mean_dev_deg\":%.4f,\"unmeasured_faces\":%zu,"
+	              "\"fallbacks\":%zu,\"retriangulated\":%zu,\"carried_superfaces\":%zu,"
+	              "\"bound_deg\":%.4f,\"max_dev_deg\":%.4f,\"mean_dev_deg\":%.4f,"
+	              "\"unmeasured_faces\":%zu,"
 	              "\"seconds\":%.4f,\"seconds_partition\":%.4f,\"seconds_borders\":%.4f,"
 	              "\"seconds_triangulation\":%.4f,\"seconds_checks\":%.4f,"
 	              "\"seconds_placement\":%.4f,\"rounds\":%d,"
 	              "\"reused_finer\":%s,\"distance_bound_pct\":%s,%s",
 	              s.level, s.faces, s.vertices, s.superfaces, s.fallbacks, s.retriangulated,
-	              s.boundDeg, s.maxNormalDevDeg, s.meanNormalDevDeg, s.unmeasuredFaces, s.seconds,
-	              s.secondsPartition, s.secondsBorders, s.secondsTriangulation, s.secondsChecks,
-	              s.secondsPlacement, s.rounds, s.reusedFiner ? "true" : "false", dist, placed);
+	              s.carriedSuperfaces, s.boundDeg, s.maxNormalDevDeg, s.meanNormalDevDeg,
+	              s.unmeasuredFaces, s.seconds, s.secondsPartition, s.secondsBorders,
+	              s.secondsTriangulation, s.secondsChecks, s.secondsPlacement, s.rounds,
+	              s.reusedFiner ? "true" : "false", dist, placed);
 	std::string json = buf + repairsJson(s.input) + "," + attributesJson(o, s) + "," +
 	                   targetJson(p, s) + ",\"file\":" + jsonString(o.files[i]);
 	if (i < o.materialFiles.size() && !o.materialFiles[i].empty())

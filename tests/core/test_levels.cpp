@@ -1,9 +1,11 @@
 // Levels of detail: exactness on flat geometry, and the invariants of docs/ALGORITHM.md on real
 // models, checked with independent code (test_meshes.h), not with the engine's own statistics.
+#include "engine.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -297,5 +299,84 @@ TEST(Levels, papers_experiment_cow_and_dino_at_max_level_5)
 			std::printf("\n");
 			expectMonotone(r);
 		}
+	}
+}
+
+namespace {
+
+// A flat annulus in z = 0 (radii 0.5 and 1, n segments, `rings` circles), counter-clockwise seen
+// from +z.
+FlatMesh flatAnnulus(int n, int rings)
+{
+	FlatMesh m;
+	for (int r = 0; r < rings; ++r)
+		for (int i = 0; i < n; ++i) {
+			const double radius = 0.5 + 0.5 * r / (rings - 1), a = 2 * M_PI * i / n;
+			m.positions.insert(m.positions.end(), {radius * std::cos(a), radius * std::sin(a), 0.0});
+		}
+	for (int r = 0; r + 1 < rings; ++r)
+		for (int i = 0; i < n; ++i) {
+			const int32_t a = r * n + i, b = r * n + (i + 1) % n, c = a + n, d = b + n;
+			m.triangles.insert(m.triangles.end(), {a, b, d, a, d, c});
+		}
+	return m;
+}
+
+} // namespace
+
+// DESIGN 31: a superface of a coarser level with the same faces and the same kept outline as a
+// superface the finer level re-triangulated exactly takes that superface's triangles and measures
+// (ExactCarry): the coarser level must be the one every superface re-triangulated gives.
+TEST(Levels, exact_superfaces_carried_to_the_coarser_level_give_the_same_level)
+{
+	// The annulus's inner circle (110 segments) is 0.029 % of the diagonal from the chord past
+	// each vertex: every vertex stays at LOD4 (tolerance 0.02 %), not at LOD3 (0.04 %): the same
+	// faces, another outline, not carried. fandisk's exact superfaces are merged at LOD3: none is
+	// carried. Either way the level must be the same.
+	const std::pair<const char *, bool> models[] = {{"grid cube", true},
+	                                                {"joint.off", true},
+	                                                {"annulus", false},
+	                                                {"fandisk.off", false}};
+	for (const auto &model : models) {
+		const std::string name = model.first;
+		SCOPED_TRACE(name);
+		const FlatMesh m = name == "grid cube" ? gridCube(20)
+		                   : name == "annulus" ? flatAnnulus(110, 6)
+		                                       : weldedCopy(loadOff(name));
+		const Params prm;
+		detail::Topology t;
+		detail::buildTopology(m.view(), prm.featureAngle, t);
+		const int finest = prm.maxLevel - 1;
+		auto across = [&](int level) { return std::min(levelBoundDeg(level), prm.featureAngle); };
+		std::vector<detail::Partition> parts(size_t(prm.maxLevel));
+		detail::finestPartition(t, finest, parts[size_t(finest)]);
+		detail::mergeAcrossCells(t, across(finest), parts[size_t(finest)]);
+		LevelMesh fine;
+		detail::ExactCarry carry;
+		detail::buildLevelGeometry(t, prm, parts, parts[size_t(finest)], fine, SIZE_MAX, nullptr,
+		                           nullptr, &carry);
+		ASSERT_EQ(carry.empty(), false);
+		detail::Partition coarse;
+		detail::coarserPartition(t, parts[size_t(finest)], coarse, int8_t(finest - 1));
+		detail::mergeAcrossCells(t, across(finest - 1), coarse);
+		detail::SplitCost cost;
+		detail::triangleShare(parts[size_t(finest)], fine, cost);
+		detail::Partition pWith = coarse, pWithout = coarse;
+		LevelMesh with, without;
+		detail::buildLevelGeometry(t, prm, parts, pWith, with, fine.stats.faces, &cost, &carry);
+		detail::buildLevelGeometry(t, prm, parts, pWithout, without, fine.stats.faces, &cost);
+		EXPECT_EQ(with.stats.carriedSuperfaces > 0, model.second) << with.stats.carriedSuperfaces;
+		EXPECT_EQ(without.stats.carriedSuperfaces, 0u);
+		EXPECT_EQ(with.triangles, without.triangles);
+		EXPECT_EQ(with.positions, without.positions);
+		EXPECT_EQ(with.superface, without.superface);
+		EXPECT_EQ(with.borderEdges, without.borderEdges);
+		EXPECT_EQ(with.inputSuperface, without.inputSuperface);
+		EXPECT_EQ(with.stats.retriangulated, without.stats.retriangulated);
+		EXPECT_EQ(with.stats.maxNormalDevDeg, without.stats.maxNormalDevDeg);
+		EXPECT_EQ(with.stats.meanNormalDevDeg, without.stats.meanNormalDevDeg);
+		EXPECT_EQ(with.stats.unmeasuredFaces, without.stats.unmeasuredFaces);
+		EXPECT_EQ(with.stats.distanceBound, without.stats.distanceBound);
+		EXPECT_EQ(with.stats.placedVertices, without.stats.placedVertices);
 	}
 }

@@ -233,6 +233,9 @@ struct LevelStats {
 	size_t superfaces = 0;       ///< superfaces in the final partition of this level
 	size_t fallbacks = 0;        ///< superfaces split back into finer ones (see guarantees)
 	size_t retriangulated = 0;   ///< superfaces re-triangulated by constrained Delaunay
+	size_t carriedSuperfaces = 0; ///< of those, how many took the finer level's triangles and
+	                              ///< measures: the same faces and outline, exact there, so
+	                              ///< re-triangulating gives the same (docs/DESIGN.md, 31)
 	double maxNormalDevDeg = 0;  ///< max angle between an input face normal and the output
 	                             ///< triangle covering its centroid (same superface)
 	double meanNormalDevDeg = 0; ///< area-weighted mean of the same

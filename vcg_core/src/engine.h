@@ -403,9 +403,27 @@ struct SplitCost {
 	std::vector<float> share;                    ///< per finer superface
 	float at(size_t f) const { return share[size_t((*label)[f])]; }
 };
+/// Beyond the paper (DESIGN 31): what a level hands to the next coarser one, the superfaces it
+/// re-triangulated exactly (every input face on its triangles, within LevelLimits::exact; no
+/// inside vertex; no vertex placed): the next level's superface with the same faces and the same
+/// kept outline takes their triangles and measures instead of triangulating and measuring them
+/// again (it would get the same: the same polygon, and looser limits). Superface s of the level
+/// that made it (its final partition, `label`) is exact if first[s] >= 0: its triangles are
+/// tris[3 * first[s] .. 3 * last[s]), bits alike, and its faces' measures (in ascending face
+/// order) dev/gap/tex[measureAt[s] .. measureAt[s + 1]).
+struct ExactCarry {
+	const std::vector<int32_t> *label = nullptr; ///< the finer level's final partition labels
+	std::vector<int32_t> first, last;            ///< per superface; first -1 = not carried
+	std::vector<int32_t> measureAt;              ///< per superface + 1
+	std::vector<int32_t> tris;
+	std::vector<uint8_t> bits;
+	std::vector<float> dev, gap, tex;
+	bool empty() const { return tris.empty(); }
+};
 void buildLevelGeometry(const Topology &topo, const Params &params,
                         const std::vector<Partition> &finer, Partition &p, LevelMesh &out,
-                        size_t faceLimit, const SplitCost *finerCost = nullptr);
+                        size_t faceLimit, const SplitCost *finerCost = nullptr,
+                        const ExactCarry *carryIn = nullptr, ExactCarry *carryOut = nullptr);
 /// The cost of a split into p's superfaces: per superface of p, its triangles in `level` (built
 /// on p) divided by its faces.
 void triangleShare(const Partition &p, const LevelMesh &level, SplitCost &cost);

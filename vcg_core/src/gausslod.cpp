@@ -366,6 +366,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 		LevelMesh finer;     // the previous (finer) level
 		std::vector<std::pair<int32_t, Vec3>> finerPlaced; // its placed vertices: index, position
 		SplitCost finerCost; // (with the distance tolerance, see triangleShare)
+		ExactCarry carry, nextCarry; // (DESIGN 31: the finer level's exact superfaces)
 		const bool byFaces = !params.levelFaces.empty();
 		const bool byAngle = !byFaces && params.levelDistances.empty();
 		// faces mode: parts[level] is the level's merged partition before its fallbacks (what
@@ -394,7 +395,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 				                  share ? &finerCost : nullptr, lm, merged);
 			} else {
 				buildLevelGeometry(topo, params, parts, parts[size_t(level)], lm, faceLimit,
-				                   share ? &finerCost : nullptr);
+				                   share ? &finerCost : nullptr, &carry, &nextCarry);
 				lm.stats.tolerance = tolerance;
 			}
 			const double chosen = lm.stats.tolerance;
@@ -405,9 +406,12 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			if (level < finest &&
 			    (lm.stats.faces > finer.stats.faces ||
 			     (byAngle && lm.stats.distanceBound > finer.stats.distanceBound &&
-			      double(lm.stats.faces) > (1 - kMinLevelSaving) * double(finer.stats.faces))))
+			      double(lm.stats.faces) > (1 - kMinLevelSaving) * double(finer.stats.faces)))) {
 				keepFinerLevel(mesh, level, parts, byFaces ? levelPart : parts[size_t(level) + 1],
 				               finer, finerPlaced, lm);
+				nextCarry = ExactCarry(); // (its superfaces are not this level's)
+			}
+			std::swap(carry, nextCarry);
 			if (byFaces) {
 				levelPart = std::move(parts[size_t(level)]);
 				parts[size_t(level)] = std::move(merged);

@@ -4,6 +4,7 @@
 // the next round rebuilds only what changed, until the level is valid.
 #include "level_passes.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -108,9 +109,12 @@ private:
 class LevelRounds {
 public:
 	LevelRounds(const Topology &t, const Params &prm, const std::vector<Partition> &finer,
-	            Partition &p, LevelMesh &out, size_t faceLimit, const SplitCost *finerCost)
+	            Partition &p, LevelMesh &out, size_t faceLimit, const SplitCost *finerCost,
+	            const ExactCarry *carryIn, ExactCarry *carryOut)
 	    : t_(t), finer_(finer), p_(p), out_(out), faceLimit_(faceLimit), finerCost_(finerCost),
-	      limits_(levelLimits(prm, t.diagonal, p.level, t.UV != nullptr)), place_(prm.placeVertices)
+	      limits_(levelLimits(prm, t.diagonal, p.level, t.UV != nullptr)),
+	      place_(prm.placeVertices), carryIn_(carryIn && !carryIn->empty() ? carryIn : nullptr),
+	      carryOut_(carryOut)
 	{
 		fb_.extraLock.assign(t_.nV, 0);
 		fb_.tolStep.assign(t_.nF, 0);
@@ -133,7 +137,10 @@ private:
 	const size_t faceLimit_;
 	const SplitCost *finerCost_;
 	const LevelLimits limits_;
-	const bool place_; ///< Params::placeVertices
+	const bool place_;          ///< Params::placeVertices
+	const ExactCarry *carryIn_; ///< the finer level's exact superfaces (first round only)
+	ExactCarry *carryOut_;      ///< this level's, for the next coarser one
+	bool firstRound_ = true;
 	Stopwatch clock_;
 	Placement placement_;
 
@@ -151,6 +158,7 @@ private:
 	LevelTriangles tri_;  ///< (after a patch round with failures: see concatenate)
 	size_t liveTris_ = 0; ///< triangles of the round's superfaces
 	size_t retriangulated_ = 0;
+	size_t carried_ = 0; ///< superfaces that took the finer level's exact triangles
 	FailedList failed_;
 	size_t failedTris_ = 0; ///< triangles the failed superfaces had made before failing, at
 	                        ///< least 1 each (those the whole-level check failed: 1)
@@ -162,6 +170,8 @@ private:
 	void buildRound(bool patch);
 	void markDirty(bool patch);
 	void buildSuperface(int32_t s, Scratch &w, ChunkOut &o);
+	bool takeExact(int32_t s, Scratch &w, ChunkOut &o);
+	void carryExact();
 	bool appendPatch(size_t rebuilt, size_t live);
 	void concatenate(size_t live, bool failures);
 	void keepForReuse();
@@ -178,6 +188,7 @@ void LevelRounds::run()
 		if (round == kMaxRounds) // give up simplifying: every vertex kept is always valid
 			std::fill(fb_.extraLock.begin(), fb_.extraLock.end(), uint8_t(1));
 		buildRound(round > 0 && round < kMaxRounds);
+		firstRound_ = false;
 		if (failed_.empty() || round >= kMaxRounds)
 			break;
 		// Splitting a superface adds faces (its pieces have the split chains on their borders)
@@ -204,6 +215,8 @@ void LevelRounds::run()
 		              borders_, rings_, measures_, placement_);
 		out_.stats.secondsPlacement = clock_.lap();
 	}
+	if (carryOut_)
+		carryExact();
 	finish(fallbacks);
 	out_.stats.secondsChecks += clock_.lap();
 }
@@ -284,7 +297,8 @@ void LevelRounds::buildSuperface(int32_t s, Scratch &w, ChunkOut &o)
 	c.faceCount = faces_.end(s) - faces_.begin(s);
 	Failure f = Failure::None;
 	const TriangulationInput in = triangulationInput();
-	if (rings_.broken[size_t(s)] || !reuseTriangles(in, s, c, prev_, w, o)) {
+	if (rings_.broken[size_t(s)] ||
+	    !(firstRound_ && carryIn_ ? takeExact(s, w, o) : reuseTriangles(in, s, c, prev_, w, o))) {
 		for (int32_t i = faces_.begin(s); i < faces_.end(s); ++i) {
 			measures_.dev[size_t(faces_.face[size_t(i)])] = -1.0f; // (measured again below)
 			if (!measures_.gap.empty())
@@ -303,6 +317,113 @@ void LevelRounds::buildSuperface(int32_t s, Scratch &w, ChunkOut &o)
 	c.retriangulated = o.retriangulated > retriBefore;
 	c.triBegin = int32_t(before);
 	c.triEnd = int32_t(o.triBorder.size());
+}
+
+// Beyond the paper (DESIGN 31): superface s takes the triangles and measures of the finer
+// level's exact superface with the same faces, if its kept outline is the same (the directed kept
+// ring edges against the triangles' border edges). False if there is none.
+bool LevelRounds::takeExact(int32_t s, Scratch &w, ChunkOut &o)
+{
+	const ExactCarry &ec = *carryIn_;
+	const int32_t fb = faces_.begin(s), fe = faces_.end(s);
+	const int32_t fs = (*ec.label)[size_t(faces_.face[size_t(fb)])];
+	const int32_t first = ec.first[size_t(fs)];
+	if (first < 0 || ec.measureAt[size_t(fs) + 1] - ec.measureAt[size_t(fs)] != fe - fb)
+		return false;
+	for (int32_t i = fb; i < fe; ++i) // (as many faces, all of fs: the same faces)
+		if ((*ec.label)[size_t(faces_.face[size_t(i)])] != fs)
+			return false;
+	const int32_t last = ec.last[size_t(fs)];
+	w.edgesBefore.clear();
+	for (int32_t k = first; k < last; ++k)
+		for (int e = 0; e < 3; ++e)
+			if (ec.bits[size_t(k)] & (1u << e))
+				w.edgesBefore.push_back(uint64_t(uint32_t(ec.tris[3 * size_t(k) + size_t(e)]))
+				                            << 32 |
+				                        uint32_t(ec.tris[3 * size_t(k) + size_t(e + 1) % 3]));
+	w.edgesNow.clear();
+	for (int32_t r = rings_.sfStart[size_t(s)]; r < rings_.sfStart[size_t(s) + 1]; ++r) {
+		int32_t firstV = -1, prevV = -1;
+		for (int32_t i = rings_.start[size_t(r)]; i < rings_.start[size_t(r) + 1]; ++i) {
+			const int32_t v = t_.heFrom(rings_.he[size_t(i)]);
+			if (!borders_.keep[size_t(v)])
+				continue;
+			if (prevV >= 0)
+				w.edgesNow.push_back(uint64_t(uint32_t(prevV)) << 32 | uint32_t(v));
+			else
+				firstV = v;
+			prevV = v;
+		}
+		if (prevV >= 0)
+			w.edgesNow.push_back(uint64_t(uint32_t(prevV)) << 32 | uint32_t(firstV));
+		if (w.edgesNow.size() > w.edgesBefore.size())
+			return false;
+	}
+	if (w.edgesNow.size() != w.edgesBefore.size())
+		return false;
+	std::sort(w.edgesNow.begin(), w.edgesNow.end());
+	std::sort(w.edgesBefore.begin(), w.edgesBefore.end());
+	if (w.edgesNow != w.edgesBefore)
+		return false;
+	o.tris.insert(o.tris.end(), ec.tris.begin() + 3 * first, ec.tris.begin() + 3 * last);
+	o.triBorder.insert(o.triBorder.end(), ec.bits.begin() + first, ec.bits.begin() + last);
+	const size_t at = size_t(ec.measureAt[size_t(fs)]);
+	for (int32_t i = fb; i < fe; ++i) {
+		const size_t f = size_t(faces_.face[size_t(i)]), j = at + size_t(i - fb);
+		measures_.dev[f] = ec.dev[j];
+		if (!measures_.gap.empty())
+			measures_.gap[f] = ec.gap.empty() ? 0.0f : ec.gap[j];
+		if (!measures_.tex.empty())
+			measures_.tex[f] = ec.tex.empty() ? 0.0f : ec.tex[j];
+	}
+	++o.retriangulated, ++o.carried;
+	return true;
+}
+
+// This level's exact superfaces for the next coarser level (see ExactCarry): re-triangulated,
+// every face's distance bound within LevelLimits::exact, every vertex of its triangles on a border
+// and at its input position.
+void LevelRounds::carryExact()
+{
+	ExactCarry &ec = *carryOut_;
+	ec = ExactCarry();
+	ec.label = &p_.label;
+	const size_t n = p_.count();
+	ec.first.assign(n, -1), ec.last.assign(n, -1), ec.measureAt.assign(n + 1, 0);
+	const bool gap = !measures_.gap.empty(), tex = !measures_.tex.empty();
+	for (size_t sf = 0; sf < n; ++sf) {
+		ec.measureAt[sf + 1] = ec.measureAt[sf];
+		const Cached &c = cache_[sf];
+		if (!c.ok || !c.retriangulated || c.triEnd <= c.triBegin)
+			continue;
+		bool exact = true;
+		for (int32_t i = faces_.begin(int32_t(sf)); i < faces_.end(int32_t(sf)) && exact; ++i) {
+			const size_t f = size_t(faces_.face[size_t(i)]);
+			exact = measures_.dev[f] >= 0 && (!gap || double(measures_.gap[f]) <= limits_.exact);
+		}
+		for (int32_t k = c.triBegin; k < c.triEnd && exact; ++k)
+			for (size_t j = 0; j < 3 && exact; ++j) {
+				const int32_t v = tri_.tris[3 * size_t(k) + j];
+				exact = borders_.degree[size_t(v)] > 0 && placement_.at(t_, size_t(v)) == t_.pos(v);
+			}
+		if (!exact)
+			continue;
+		ec.first[sf] = int32_t(ec.bits.size());
+		ec.tris.insert(ec.tris.end(), tri_.tris.begin() + 3 * c.triBegin,
+		               tri_.tris.begin() + 3 * c.triEnd);
+		ec.bits.insert(ec.bits.end(), tri_.triBorder.begin() + c.triBegin,
+		               tri_.triBorder.begin() + c.triEnd);
+		for (int32_t i = faces_.begin(int32_t(sf)); i < faces_.end(int32_t(sf)); ++i) {
+			const size_t f = size_t(faces_.face[size_t(i)]);
+			ec.dev.push_back(measures_.dev[f]);
+			if (gap)
+				ec.gap.push_back(measures_.gap[f]);
+			if (tex)
+				ec.tex.push_back(measures_.tex[f]);
+		}
+		ec.last[sf] = int32_t(ec.bits.size());
+		ec.measureAt[sf + 1] = int32_t(ec.dev.size());
+	}
 }
 
 // A patch round with failures is followed by another round: the rebuilt superfaces are appended
@@ -333,7 +454,7 @@ bool LevelRounds::appendPatch(size_t rebuilt, size_t live)
 		}
 		failed_.insert(failed_.end(), o.failed.begin(), o.failed.end()),
 		    failedTris_ += o.failedTris;
-		retriangulated_ += o.retriangulated;
+		retriangulated_ += o.retriangulated, carried_ += o.carried;
 		o = ChunkOut(); // (frees its memory)
 	}
 	release(prev_.prev), prev_.prevOf.clear(); // (the ids' memory serves the next rounds)
@@ -368,7 +489,7 @@ void LevelRounds::concatenate(size_t live, bool failures)
 		}
 		failed_.insert(failed_.end(), o.failed.begin(), o.failed.end()),
 		    failedTris_ += o.failedTris;
-		retriangulated_ += o.retriangulated;
+		retriangulated_ += o.retriangulated, carried_ += o.carried;
 		o = ChunkOut(); // (frees its memory)
 	}
 	release(prev_.prev), prev_.prevOf.clear();
@@ -440,6 +561,7 @@ void LevelRounds::fillStats(size_t fallbacks, size_t vertices)
 	st.superfaces = p_.count();
 	st.fallbacks = fallbacks;
 	st.retriangulated = retriangulated_;
+	st.carriedSuperfaces = carried_;
 	double maxDev = 0, sum = 0, area = 0;
 	size_t unmeasured = 0;
 	const std::vector<float> &dev = measures_.dev;
@@ -468,9 +590,12 @@ void LevelRounds::fillStats(size_t fallbacks, size_t vertices)
 
 void buildLevelGeometry(const Topology &topo, const Params &params,
                         const std::vector<Partition> &finer, Partition &p, LevelMesh &out,
-                        size_t faceLimit, const SplitCost *finerCost)
+                        size_t faceLimit, const SplitCost *finerCost, const ExactCarry *carryIn,
+                        ExactCarry *carryOut)
 {
-	LevelRounds(topo, params, finer, p, out, faceLimit, finerCost).run();
+	if (carryOut)
+		*carryOut = ExactCarry();
+	LevelRounds(topo, params, finer, p, out, faceLimit, finerCost, carryIn, carryOut).run();
 }
 
 void triangleShare(const Partition &p, const LevelMesh &level, SplitCost &cost)

@@ -115,6 +115,7 @@ struct ChunkOut {
 	std::vector<Piece> straight; ///< pieces left straight (see straightenBorders)
 	std::vector<int32_t> ringHE, ringStart, sfRings; ///< traced rings (until concatenated)
 	size_t retriangulated = 0;
+	size_t carried = 0;    ///< superfaces that took the finer level's exact triangles
 	size_t failedTris = 0; ///< triangles the failed superfaces had made (at least 1 each)
 
 	void emit(int32_t a, int32_t b, int32_t c, uint8_t borderBits, bool isNew)
