@@ -42,6 +42,13 @@ MODELS = [
     {"name": "bumpy_1m", "gen": ["bumpy", "708", "708"], "groups": ["synthetic", "speed"], "peers": "coarsest"},
     # The scaling bar's mesh (2M faces): GaussLOD only (Blender alone would take ~9 min here).
     {"name": "bumpy_2m", "gen": ["bumpy", "1000", "1000"], "groups": ["synthetic", "scale"], "peers": "none"},
+    # The speed meshes the issue names (#18's "Done when"): the 1.92M-face grid cube and
+    # fandisk_large subdivided to 2.03M faces; GaussLOD and meshopt to its coarsest level, times
+    # only (no quality metrics: the same surfaces as cube50 and fandisk).
+    {"name": "cube400", "gen": ["cube", "400"], "groups": ["synthetic", "issue_speed"],
+     "peers": "speed", "metrics": False},
+    {"name": "fandisk_large_x64", "gen": ["subdivide", "3", "@DATA/fandisk_large.off", "@OUT"],
+     "groups": ["real", "issue_speed"], "peers": "speed", "metrics": False},
 ]
 QUICK = ["cube50", "fandisk", "anchor", "bumpy_100k"]
 
@@ -179,6 +186,7 @@ class Bench:
         self.exe = {n: os.path.join(self.build, n) for n in
                     ["gausslod", "bench_gen", "bench_load", "bench_peers", "bench_metrics"]}
         self.rows = []       # one per (model, method, level)
+        self.speed_rows = [] # the same, for the times-only models (no quality metrics)
         self.models = {}     # name -> info (faces, load peak, gausslod totals, ...)
         self.xdg = tempfile.mkdtemp(prefix="bench_xdg_")
         os.chmod(self.xdg, 0o700)
@@ -196,7 +204,7 @@ class Bench:
         if "off" in m:
             cmd = [self.exe["bench_gen"], "convert", os.path.join(DATA, m["off"]), out]
         else:
-            g = list(m["gen"])
+            g = [x.replace("@DATA", DATA) for x in m["gen"]]
             if "@OUT" in g:
                 g[g.index("@OUT")] = out
             else:
@@ -216,9 +224,9 @@ class Bench:
             return None, fail_reason(r)
         return js[0], None
 
-    def add_row(self, model, method, level, target, res, orig, note="", sweep=False):
+    def add_row(self, model, method, level, target, res, orig, note="", sweep=False, metrics=True):
         """res: dict with file, seconds, peak_mb, faces (or error). sweep: an angle-driven peer's
-        run at an angle of no level (level None)."""
+        run at an angle of no level (level None). metrics=False: times only (no bench_metrics)."""
         row = {"model": model, "method": method, "level": level, "target": target,
                "seconds": res.get("seconds"), "peak_mb": res.get("peak_mb"),
                "wall": res.get("wall"), "note": note, "error": res.get("error")}
@@ -233,6 +241,8 @@ class Bench:
                 row["faces"] = 0
             elif not os.path.exists(res["file"]):
                 row["error"] = "no output file"
+            elif not metrics:
+                row["faces"] = res.get("faces")
             else:
                 met, err = self.metrics(orig, res["file"])
                 if met is None:
@@ -240,7 +250,7 @@ class Bench:
                 else:
                     row.update({k: met[k] for k in met if k not in ("seconds",)})
                     row["metrics_seconds"] = met["seconds"]
-        self.rows.append(row)
+        (self.rows if metrics else self.speed_rows).append(row)
         with open(os.path.join(self.work, "rows.jsonl"), "a") as f:
             f.write(json.dumps(row) + "\n")
         return row
@@ -405,14 +415,23 @@ class Bench:
             return
         info["gausslod_seconds"] = sum(l["seconds"] for l in levels)
         info["levels"] = levels
+        metrics = m.get("metrics", True)
         for l in levels:
             self.add_row(name, "gausslod", l["level"], None,
                          {"file": l["file"], "faces": l["faces"], "seconds": l["seconds"],
                           "peak_mb": gr["peak_mb"], "extra": {k: l.get(k) for k in
                                                               ("fallbacks", "superfaces", "bound_deg",
                                                                "distance_bound_pct")}},
-                         ply)
+                         ply, metrics=metrics)
         targets = levels
+        if peers == "speed":  # meshopt to the coarsest level, three runs (the fastest counts)
+            coarsest = min(levels, key=lambda l: l["level"])
+            for run_no in range(3):
+                log("model %s L%d: meshopt (%d faces), run %d" % (name, coarsest["level"], coarsest["faces"], run_no + 1))
+                res = self.run_peer("meshopt", name, ply, info, coarsest["faces"])
+                self.add_row(name, "meshopt", coarsest["level"], coarsest["faces"], res, ply,
+                             "speed run %d" % (run_no + 1), metrics=False)
+            return
         if peers == "coarsest":
             targets = [min(levels, key=lambda l: l["level"])]  # coarsest only (time budget)
         elif peers == "none":
@@ -872,6 +891,39 @@ def bars(bench):
     else:
         L.append("Not measured: the >= 1M-face mesh was not run (`--quick` or it failed).")
     L.append("")
+    issue = [m for m in models.values() if "issue_speed" in m.get("groups", [])]
+    L.append("### Speed on the issue's meshes (all 5 levels vs meshopt_simplify to the coarsest level)")
+    if issue:
+        L.append("The meshes issue 18 names: the grid cube with 1.92M faces and fandisk_large subdivided "
+                 "3 times (2.03M faces, the same surface). GaussLOD: engine time summed over the levels "
+                 "(in-process) and the whole `gausslod` process (read, 5 levels, write); meshopt: the "
+                 "fastest of three in-process runs to GaussLOD's coarsest face count.")
+        L.append("")
+        L.append("| mesh | faces | coarsest level | GaussLOD engine s | process s | meshopt s | engine / meshopt (wanted <= 1.0) | process / meshopt (wanted <= 1.3) |")
+        L.append("|---|---|---|---|---|---|---|---|")
+        for m in issue:
+            if not m.get("levels"):
+                L.append("| %s | – | – | – | – | – | FAILED: %s | |" % (m["name"], m.get("gausslod_error")))
+                continue
+            coarse = min(m["levels"], key=lambda l: l["level"])
+            mo = [r["seconds"] for r in bench.speed_rows
+                  if r["model"] == m["name"] and r["method"] == "meshopt" and r.get("seconds") and not r.get("error")]
+            if not mo:
+                L.append("| %s | %s | L%d, %d faces | %.2f | %.2f | – | not measured | |" % (
+                    m["name"], m["faces_in"], coarse["level"], coarse["faces"], m["gausslod_seconds"], m["gausslod_wall"]))
+                continue
+            t = min(mo)
+            e, w = m["gausslod_seconds"] / t, m["gausslod_wall"] / t
+            L.append("| %s | %s | L%d, %d faces | %.2f | %.2f | %.3f | %.2f %s | %.2f %s |" % (
+                m["name"], m["faces_in"], coarse["level"], coarse["faces"], m["gausslod_seconds"],
+                m["gausslod_wall"], t, e, ok(e <= 1.0), w, ok(w <= 1.3)))
+        L.append("")
+        L.append("Per level (faces, seconds): " + "; ".join(
+            "%s %s" % (m["name"], ", ".join("L%d %d f %.2f s" % (l["level"], l["faces"], l["seconds"])
+                                             for l in m.get("levels", []))) for m in issue) + ".")
+    else:
+        L.append("Not measured: the issue's meshes were not run (`--quick` or `--models`).")
+    L.append("")
     L.append("### Scaling (GaussLOD engine time per input face, all 5 levels)")
     if scale and small:
         pf_big = scale["gausslod_seconds"] / scale["faces_in"]
@@ -1106,7 +1158,7 @@ def report(bench, resdir, cmdline):
             os.unlink(os.path.join(resdir, f))
     rows = bench.rows
     with open(os.path.join(resdir, "raw.jsonl"), "w") as f:
-        for r in rows:
+        for r in rows + bench.speed_rows:
             f.write(json.dumps(r) + "\n")
     L = ["# GaussLOD vs peer simplifiers", ""]
     L.append("Generated by `%s` on %s (run took %.1f min)." % (
@@ -1126,6 +1178,8 @@ def report(bench, resdir, cmdline):
     L.append("## Results per model")
     L.append("")
     for name, m in bench.models.items():
+        if "issue_speed" in m["groups"]:
+            continue  # (times only: the speed section above)
         mrows = [r for r in rows if r["model"] == name]
         L.append("### %s" % name)
         L.append("")
