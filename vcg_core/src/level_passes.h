@@ -166,6 +166,9 @@ struct Scratch {
 	/// it (gap, vertex; -1 = none), for a triangle too far from a face but from none of its
 	/// vertices (the gap peaks where the face crosses the triangle's edge)
 	std::vector<std::pair<double, int32_t>> farCorner;
+	/// likewise from deviationWithinLimit: per new triangle, the insertable corner farthest from
+	/// its plane of a face that deviates from it beyond the normal limit (DESIGN 32)
+	std::vector<std::pair<double, int32_t>> devCorner;
 	FlipScratch flip;
 	std::vector<int32_t> localOf; ///< jobFromTriangles: per input vertex, its job vertex (-1)
 	// polishDiagonals: the accepted pass, put back if the polished one is not better

@@ -237,34 +237,48 @@ bool projectionNormal(const TriangulationInput &in, int32_t s, Vec3 &N, bool &un
 // deviations are written by writeDeviations (a pass that is retried never writes them: the retry
 // resets them), and the angle (acos) is only computed here where the cosine is not clearly within
 // the limit.
-bool deviationWithinLimit(const TriangulationInput &in, int32_t s, size_t ntri, Scratch &w,
-                          FaceMeasures &m)
+bool deviationWithinLimit(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
+                          const ChunkOut &o, Scratch &w, FaceMeasures &m)
 {
+	const size_t ntri = o.tris.size() / 3 - firstTri;
 	const int32_t fb = in.faces.begin(s);
 	const bool defer = !w.sfNormal.empty();
+	// Beyond the paper (DESIGN 32): with inside vertices to insert, every face beyond the limit
+	// offers a corner to its triangle (w.devCorner), as a face too far does (distanceCheck)
+	const bool corners = in.limits.maxDistance > 0 && ntri > 1 && !w.cornerQuery.empty();
+	if (corners)
+		w.devCorner.assign(ntri, std::make_pair(-1.0, int32_t(-1)));
 	// above this cosine the angle is below min(90, limit) by far more than acos's rounding
 	const double limit = std::min(90.0, in.limits.devLimitDeg);
 	const double clearlyWithin = std::cos(limit * (M_PI / 180)) + 1e-7;
+	bool within = true;
 	for (int32_t i = fb; i < in.faces.end(s); ++i) {
 		const int32_t f = in.faces.face[size_t(i)];
 		const int32_t k = ntri == 1 ? 0 : w.job.queryTri[size_t(i - fb)];
-		if (defer)
+		if (defer && within)
 			w.devMeasured = i - fb;
 		if (k < 0)
 			continue;
 		const double cosine = sfFaceNormal(in, s, i - fb, w).dot(w.triNormal[size_t(k)]);
 		if (!defer || !(cosine > clearlyWithin)) {
 			const double d = angleDegOfCos(cosine); // (= angleDeg(normal, triangle normal))
-			if (d > 90 || d > in.limits.devLimitDeg)
-				return false;
-			if (!defer)
+			if (d > 90 || d > in.limits.devLimitDeg) {
+				within = false;
+				if (!corners)
+					return false;
+				for (int c = 0; c < 3; ++c)
+					offerInsertion(in, w, o, firstTri, N, k, in.t.T[3 * f + c],
+					               w.devCorner[size_t(k)]);
+				continue;
+			}
+			if (!defer && within)
 				m.dev[size_t(f)] = float(d);
 		}
 		w.covered[size_t(k)] = 1;
 	}
-	if (defer)
+	if (defer && within)
 		w.devMeasured = in.faces.end(s) - fb;
-	return true;
+	return within;
 }
 
 // Each triangle's distance to the nearest input face whose centroid it covers (the flip check's
@@ -399,6 +413,7 @@ Failure triangulateAndCheck(const TriangulationInput &in, int32_t s, const Vec3 
 	inside = false;
 	w.devMeasured = 0;
 	w.farCorner.clear(); // (distanceCheck's, for this pass only)
+	w.devCorner.clear(); // (deviationWithinLimit's, likewise)
 	if (w.ringVertStart.size() == 2 && w.ringVerts.size() == 3) { // one triangle
 		o.emit(w.ringVerts[0], w.ringVerts[1], w.ringVerts[2], 7, true);
 	} else {
@@ -413,7 +428,7 @@ Failure triangulateAndCheck(const TriangulationInput &in, int32_t s, const Vec3 
 	}
 	if (!triangleFrames(in, o, firstTri, w))
 		return Failure::Ring;
-	if (!deviationWithinLimit(in, s, o.tris.size() / 3 - firstTri, w, m)) {
+	if (!deviationWithinLimit(in, s, N, firstTri, o, w, m)) {
 		inside = true;
 		return Failure::Deviation;
 	}
@@ -480,6 +495,11 @@ bool insertFarthest(const TriangulationInput &in, int32_t s, const Vec3 &N, size
 		for (size_t k = 0; k < ntri; ++k)
 			if (w.farthest[k].second < 0 && w.farCorner[k].second >= 0)
 				w.farthest[k] = w.farCorner[k];
+	// a triangle a face deviates from beyond the normal limit: a corner of such a face
+	if (w.devCorner.size() == ntri)
+		for (size_t k = 0; k < ntri; ++k)
+			if (w.farthest[k].second < 0 && w.devCorner[k].second >= 0)
+				w.farthest[k] = w.devCorner[k];
 	const size_t before = w.ringVerts.size();
 	for (const auto &best : w.farthest) {
 		const int32_t v = best.second;
