@@ -38,6 +38,13 @@
 // is read from its own folder (VCG opens its mtllib relative to the current directory), as the
 // OBJ plugin does. importMeshEither() reads into a lean mesh type unless the file's load mask
 // (VCG's LoadMask, or the OFF pre-scan) has attributes worth the richer one.
+//
+// Binary PLY files of the layout VCG and MeshLab write for a mesh without attributes (little
+// endian; float x, y, z; faces as "list uchar int|uint vertex_indices", every face a triangle)
+// are read here, at once, into the same mesh VCG's importer builds (DESIGN 33; tested against
+// VCG's reader file by file, bit for bit): plylib reads them value by value and took most of the
+// time of loading a large mesh. Anything else in such a file (a polygon, an index out of range,
+// a short body) leaves it to the walk and VCG's importer, with their messages.
 #pragma once
 
 #include <GL/glu.h> // before VCG's importers: their polygon tessellation then uses GLU
@@ -96,6 +103,7 @@ struct ReadInfo {
 	/// (faces and materials as VCG read them; its face colours come from the materials' Kd)
 	std::vector<vcg::tri::io::Material> materials;
 	std::vector<int> faceMaterial;
+	bool fastPly = false; ///< read by the binary PLY fast path (see the top of this file)
 };
 
 inline const char *readStatusName(ReadStatus s)
@@ -888,9 +896,85 @@ inline bool readPlyAscii(FILE *f, int t, double &v, bool &bad)
 	return true;
 }
 
-/// Checks a PLY file before VCG's ImporterPLY reads it (see the top of this file).
+/// A binary PLY body read at once (readSimplePly): positions and triangles as VCG would read them.
+struct SimplePly {
+	bool ok = false;
+	std::vector<float> xyz;   ///< 3 per vertex
+	std::vector<int32_t> tri; ///< 3 per face
+};
+
+inline bool hostLittleEndian()
+{
+	const uint16_t one = 1;
+	unsigned char b;
+	std::memcpy(&b, &one, 1);
+	return b == 1;
+}
+
+/// The layout VCG and MeshLab write for a mesh without attributes: binary little endian, a vertex
+/// element of float x, y, z, then a face element of one "list uchar int|uint" index list, and no
+/// TextureFile comment. Reads its body into `out` if every face is a triangle of vertices in
+/// range and the body is complete; false (out empty) for anything else, left to the walk.
+inline bool readSimplePly(FILE *f, const PlyHeader &h, const vcg::ply::PlyFile &pf,
+                          SimplePly &out)
+{
+	using namespace vcg::ply;
+	out = SimplePly();
+	if (h.format != 2 || !hostLittleEndian() || pf.elements.size() != 2)
+		return false;
+	const PlyElement &ve = pf.elements[0], &fe = pf.elements[1];
+	if (ve.name != "vertex" || fe.name != "face" || ve.props.size() != 3 ||
+	    fe.props.size() != 1 || ve.number < 0 || fe.number < 0 || ve.number > INT32_MAX)
+		return false;
+	static const char *const xyz[] = {"x", "y", "z"};
+	for (int k = 0; k < 3; ++k)
+		if (ve.props[size_t(k)].name != xyz[k] || ve.props[size_t(k)].islist ||
+		    ve.props[size_t(k)].tipo != T_FLOAT)
+			return false;
+	const PlyProperty &ip = fe.props[0];
+	if (!ip.islist || (ip.name != "vertex_indices" && ip.name != "vertex_index") ||
+	    ip.tipoindex != T_UCHAR || !(ip.tipo == T_INT || (ip.tipo == T_UINT && ip.name != "vertex_index")))
+		return false;
+	for (const std::string &c : pf.comments)
+		if (c.compare(0, 11, "TextureFile") == 0)
+			return false;
+	const size_t nv = size_t(ve.number), nf = size_t(fe.number);
+	if (std::fseek(f, long(h.dataOffset), SEEK_SET) != 0)
+		return false;
+	out.xyz.resize(3 * nv);
+	if (nv && std::fread(out.xyz.data(), 12, nv, f) != nv)
+		return out = SimplePly(), false;
+	out.tri.resize(3 * nf);
+	constexpr size_t kRecord = 13, kBatch = 1 << 14; // (a count byte and three indices)
+	std::vector<unsigned char> buf(kRecord * std::min(nf, kBatch));
+	const bool isUnsigned = ip.tipo == T_UINT;
+	for (size_t done = 0; done < nf;) {
+		const size_t n = std::min(nf - done, kBatch);
+		if (std::fread(buf.data(), kRecord, n, f) != n)
+			return out = SimplePly(), false;
+		for (size_t i = 0; i < n; ++i) {
+			const unsigned char *r = &buf[kRecord * i];
+			if (r[0] != 3)
+				return out = SimplePly(), false;
+			for (size_t k = 0; k < 3; ++k) {
+				uint32_t u;
+				std::memcpy(&u, r + 1 + 4 * k, 4);
+				// (an int below zero is a huge uint: out of range either way)
+				if (u >= uint32_t(nv) || (!isUnsigned && u > uint32_t(INT32_MAX)))
+					return out = SimplePly(), false;
+				out.tri[3 * (done + i) + k] = int32_t(u);
+			}
+		}
+		done += n;
+	}
+	out.ok = true;
+	return true;
+}
+
+/// Checks a PLY file before VCG's ImporterPLY reads it (see the top of this file); a file of the
+/// fast path's layout is read into `simple` instead (simple->ok), if `simple` is given.
 inline bool checkPly(const std::string &path, FILE *f, uint64_t size, double vertexBytes,
-                     double faceBytes, ReadError &e, FileFacts &facts)
+                     double faceBytes, ReadError &e, FileFacts &facts, SimplePly *simple = nullptr)
 {
 	PlyHeader h;
 	if (!precheckPlyHeader(f, h, e))
@@ -983,6 +1067,8 @@ inline bool checkPly(const std::string &path, FILE *f, uint64_t size, double ver
 	if (!checkMemory(double(nv) * (vertexBytes + sizeof(void *)) + double(nf) * faceBytes, e))
 		return false;
 	if (!lists)
+		return true;
+	if (simple && readSimplePly(f, h, pf, *simple))
 		return true;
 
 	// walk the body once: list counts and face indices before plylib copies them
@@ -1273,13 +1359,15 @@ struct CheckedFile {
 	ObjScan obj;                     ///< OBJ: its triangles as the scan read them
 	std::unique_ptr<InFolder> folder; ///< OBJ: read from its own folder
 	std::string vcgPath;             ///< the name VCG opens
+	SimplePly ply;                   ///< PLY: the body, if the fast path read it
 };
 
 /// Everything before VCG reads the body: stat, sniffing, the guards of the format (see the top of
 /// this file), the file's load mask. `vb`, `fb`: bytes per vertex and face of the mesh type the
 /// memory checks assume.
 template <class MeshT>
-bool checkFile(const std::string &path, double vb, double fb, CheckedFile &c, ReadError &e)
+bool checkFile(const std::string &path, double vb, double fb, CheckedFile &c, ReadError &e,
+               bool fastPly = true)
 {
 	struct stat st;
 	if (::stat(path.c_str(), &st) != 0)
@@ -1352,7 +1440,7 @@ bool checkFile(const std::string &path, double vb, double fb, CheckedFile &c, Re
 		return ok;
 	}
 	if (named == Format::Ply) {
-		if (!checkPly(path, file.f, size, vb, fb, e, c.facts))
+		if (!checkPly(path, file.f, size, vb, fb, e, c.facts, fastPly ? &c.ply : nullptr))
 			return false;
 		// (the header passed plylib's own parser in checkPly)
 		if (!vcg::tri::io::ImporterPLY<MeshT>::LoadMask(path.c_str(), c.facts.mask))
@@ -1390,10 +1478,33 @@ bool readChecked(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info)
 	const std::string &path = c.vcgPath;
 	m.Clear();
 	int mask = 0;
+	bool fastPly = false;
 	if (c.format == Format::Stl) {
 		buildSoup(m, c.stl);
 		std::vector<float>().swap(c.stl);
 		mask = c.facts.mask;
+	} else if (c.format == Format::Ply && c.ply.ok) {
+		// what ImporterPLY::Open builds from such a file (import_ply.h:670-690, 755-860, 1020-1070)
+		const size_t nv = c.ply.xyz.size() / 3, nf = c.ply.tri.size() / 3;
+		if (nv) {
+			auto vi = vcg::tri::Allocator<MeshT>::AddVertices(m, nv);
+			for (size_t i = 0; i < nv; ++i, ++vi)
+				for (int k = 0; k < 3; ++k)
+					(*vi).P()[k] = c.ply.xyz[3 * i + size_t(k)];
+		}
+		std::vector<float>().swap(c.ply.xyz);
+		if (nf) {
+			auto fi = vcg::tri::Allocator<MeshT>::AddFaces(m, nf);
+			for (size_t i = 0; i < nf; ++i, ++fi)
+				for (int k = 0; k < 3; ++k)
+					(*fi).V(k) = &m.vert[size_t(c.ply.tri[3 * i + size_t(k)])];
+		}
+		std::vector<int32_t>().swap(c.ply.tri);
+		m.textures.clear();
+		m.normalmaps.clear();
+		vcg::tri::UpdateBounding<MeshT>::Box(m);
+		mask = 0; // (Open's for this layout: it names no attribute, import_ply.h:387-570)
+		fastPly = true;
 	} else if (c.format == Format::Ply) {
 		using Ply = vcg::tri::io::ImporterPLY<MeshT>;
 		const int r = Ply::Open(m, path.c_str(), mask);
@@ -1458,6 +1569,7 @@ bool readChecked(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info)
 	}
 	c.folder.reset();
 	if (info) {
+		info->fastPly = fastPly;
 		info->fileMask = c.facts.mask;
 		info->mask = mask;
 	}

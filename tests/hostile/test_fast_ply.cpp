@@ -1,0 +1,172 @@
+// test_fast_ply OUTDIR MIN_FAST DIR...: the binary PLY fast path of importMesh (DESIGN 33) against
+// VCG's own reader, file by file. Every .ply under the DIRs (the hostile corpus, Debian's models,
+// the fuzz seeds), and a binary PLY that VCG's exporter writes into OUTDIR for every .off and .obj
+// model of Debian's CGAL data under the DIRs (the layout MeshLab saves a mesh without attributes
+// in: real geometry, files nobody here wrote by hand), is read twice into each of the tool's two
+// mesh types: as the tool reads it, and with the fast path off. Both must succeed or fail alike
+// (same status and message) and build the same mesh bit for bit: counts, every vertex's position
+// bits and flags, every face's vertex indices and flags, the load masks, texture names, bounding
+// box. At least MIN_FAST files must have taken the fast path (else it would test nothing).
+#include "gausslod_io/import_mesh.h"
+
+#include <wrap/io_trimesh/export_ply.h>
+
+#include <dirent.h>
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace {
+
+void collect(const std::string &dir, std::vector<std::string> &plys, std::vector<std::string> &models)
+{
+	DIR *d = opendir(dir.c_str());
+	if (!d)
+		return;
+	std::vector<std::string> names;
+	while (dirent *e = readdir(d))
+		if (e->d_name[0] != '.')
+			names.emplace_back(e->d_name);
+	closedir(d);
+	std::sort(names.begin(), names.end());
+	for (const std::string &n : names) {
+		const std::string p = dir + "/" + n;
+		struct stat st;
+		if (stat(p.c_str(), &st) != 0)
+			continue;
+		if (S_ISDIR(st.st_mode)) {
+			collect(p, plys, models);
+			continue;
+		}
+		if (!S_ISREG(st.st_mode))
+			continue;
+		const std::string ext = gausslod::detail::lowerExtension(p);
+		if (ext == "ply")
+			plys.push_back(p);
+		else if ((ext == "off" || ext == "obj") && p.find("cgal") != std::string::npos &&
+		         st.st_size < (64 << 20))
+			models.push_back(p);
+	}
+}
+
+struct Read {
+	bool ok = false;
+	gausslod::ReadError error;
+	gausslod::ReadInfo info;
+};
+
+template <class MeshT>
+Read readWith(MeshT &m, const std::string &path, bool fast)
+{
+	Read r;
+	if (fast) {
+		r.ok = gausslod::importMesh(m, path, r.error, &r.info);
+		return r;
+	}
+	r.ok = gausslod::detail::guarded(r.error, [&] {
+		using V = typename MeshT::VertexType;
+		using F = typename MeshT::FaceType;
+		gausslod::detail::CheckedFile c;
+		return gausslod::detail::checkFile<MeshT>(path, sizeof(V), sizeof(F), c, r.error,
+		                                          false) &&
+		       gausslod::detail::readChecked(m, c, r.error, &r.info);
+	});
+	return r;
+}
+
+template <class T>
+bool sameBits(const T &a, const T &b)
+{
+	return std::memcmp(&a, &b, sizeof(T)) == 0;
+}
+
+// "" if the two reads agree, else what differs.
+template <class MeshT>
+std::string compare(const std::string &path, bool &tookFast)
+{
+	MeshT a, b;
+	const Read ra = readWith(a, path, true), rb = readWith(b, path, false);
+	tookFast = ra.info.fastPly;
+	if (rb.info.fastPly)
+		return "the fast path was taken with it off";
+	if (ra.ok != rb.ok || ra.error.status != rb.error.status ||
+	    ra.error.message != rb.error.message)
+		return "result: fast " + std::string(ra.ok ? "ok" : ra.error.message) + ", VCG " +
+		       (rb.ok ? "ok" : rb.error.message);
+	if (!ra.ok)
+		return "";
+	if (ra.info.mask != rb.info.mask || ra.info.fileMask != rb.info.fileMask)
+		return "load masks " + std::to_string(ra.info.mask) + "/" + std::to_string(ra.info.fileMask) +
+		       " vs " + std::to_string(rb.info.mask) + "/" + std::to_string(rb.info.fileMask);
+	if (a.vert.size() != b.vert.size() || a.face.size() != b.face.size() || a.vn != b.vn ||
+	    a.fn != b.fn)
+		return "counts " + std::to_string(a.vn) + "/" + std::to_string(a.fn) + " vs " +
+		       std::to_string(b.vn) + "/" + std::to_string(b.fn);
+	for (size_t i = 0; i < a.vert.size(); ++i)
+		if (!sameBits(a.vert[i].cP(), b.vert[i].cP()) || a.vert[i].cFlags() != b.vert[i].cFlags())
+			return "vertex " + std::to_string(i);
+	for (size_t i = 0; i < a.face.size(); ++i) {
+		for (int k = 0; k < 3; ++k)
+			if (a.face[i].cV(k) - a.vert.data() != b.face[i].cV(k) - b.vert.data())
+				return "face " + std::to_string(i) + " corner " + std::to_string(k);
+		if (a.face[i].cFlags() != b.face[i].cFlags())
+			return "face " + std::to_string(i) + " flags";
+	}
+	if (a.textures != b.textures)
+		return "texture names";
+	if (!sameBits(a.bbox.min, b.bbox.min) || !sameBits(a.bbox.max, b.bbox.max))
+		return "bounding box";
+	return "";
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+	if (argc < 4) {
+		std::fprintf(stderr, "usage: test_fast_ply OUTDIR MIN_FAST DIR...\n");
+		return 2;
+	}
+	const std::string out = argv[1];
+	const int minFast = std::atoi(argv[2]);
+	std::vector<std::string> plys, models;
+	for (int i = 3; i < argc; ++i)
+		collect(argv[i], plys, models);
+	mkdir(out.c_str(), 0755);
+	// VCG's exporter, binary, no attributes: the layout MeshLab saves such a mesh in
+	for (const std::string &m : models) {
+		gausslod::IoMesh mesh;
+		gausslod::ReadError e;
+		if (!gausslod::importMesh(mesh, m, e) || mesh.fn == 0)
+			continue;
+		std::string name = m.substr(m.find_last_of('/') + 1);
+		name = out + "/" + name.substr(0, name.find_last_of('.')) + "_" +
+		       gausslod::detail::lowerExtension(m) + ".ply";
+		if (vcg::tri::io::ExporterPLY<gausslod::IoMesh>::Save(mesh, name.c_str(), 0, true) == 0)
+			plys.push_back(name);
+	}
+	int fast = 0, failed = 0;
+	for (const std::string &p : plys) {
+		bool lean = false, full = false;
+		const std::string d1 = compare<gausslod::IoMesh>(p, lean);
+		const std::string d2 = compare<gausslod::IoAttrMesh>(p, full);
+		if (!d1.empty() || !d2.empty() || lean != full) {
+			std::printf("FAIL %s: %s%s%s\n", p.c_str(), d1.c_str(), d1.empty() ? "" : "; ",
+			            lean != full ? "fast path taken for one mesh type only" : d2.c_str());
+			++failed;
+		}
+		fast += lean;
+	}
+	std::printf("%zu PLY files (%zu written by VCG's exporter from Debian's models): %d read by the "
+	            "fast path, %d differ from VCG's reader\n",
+	            plys.size(), models.size(), fast, failed);
+	if (fast < minFast) {
+		std::printf("FAIL: only %d files took the fast path (wanted at least %d)\n", fast, minFast);
+		return 1;
+	}
+	return failed ? 1 : 0;
+}
