@@ -182,6 +182,7 @@ void keepFinerLevel(const MeshView &mesh, int level, std::vector<detail::Partiti
 	lm.stats.secondsBorders = spent.secondsBorders;
 	lm.stats.secondsTriangulation = spent.secondsTriangulation;
 	lm.stats.secondsChecks = spent.secondsChecks;
+	lm.stats.secondsPlacement = spent.secondsPlacement;
 	lm.stats.rounds = spent.rounds;
 	lm.stats.level = level;
 	lm.stats.boundDeg = levelBoundDeg(level);
