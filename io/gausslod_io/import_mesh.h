@@ -896,11 +896,12 @@ inline bool readPlyAscii(FILE *f, int t, double &v, bool &bad)
 	return true;
 }
 
-/// A binary PLY body read at once (readSimplePly): positions and triangles as VCG would read them.
+/// A binary PLY file of the fast path's layout (readSimplePly): where its body starts, its counts.
 struct SimplePly {
 	bool ok = false;
-	std::vector<float> xyz;   ///< 3 per vertex
-	std::vector<int32_t> tri; ///< 3 per face
+	uint64_t offset = 0; ///< the body's first byte
+	size_t vertices = 0, faces = 0;
+	bool unsignedIndex = false; ///< uint indices (else int)
 };
 
 inline bool hostLittleEndian()
@@ -911,11 +912,45 @@ inline bool hostLittleEndian()
 	return b == 1;
 }
 
+constexpr size_t kPlyVertexBytes = 12, kPlyFaceBytes = 13; // (xyz; a count byte, three indices)
+constexpr size_t kPlyBatch = 1 << 14;                       // records per fread
+
+/// Reads the face records [done, done + n) of a SimplePly file from `f` (positioned there) into
+/// `buf` and checks them: a count of 3 and indices within 0..vertices-1. Calls put(face, k,
+/// index) for each index of a good record; false at a short read or a bad record.
+template <class Put>
+bool readPlyTriangles(FILE *f, const SimplePly &sp, std::vector<unsigned char> &buf, Put put)
+{
+	buf.resize(kPlyFaceBytes * std::min(sp.faces, kPlyBatch));
+	for (size_t done = 0; done < sp.faces;) {
+		const size_t n = std::min(sp.faces - done, kPlyBatch);
+		if (std::fread(buf.data(), kPlyFaceBytes, n, f) != n)
+			return false;
+		for (size_t i = 0; i < n; ++i) {
+			const unsigned char *r = &buf[kPlyFaceBytes * i];
+			if (r[0] != 3)
+				return false;
+			for (int k = 0; k < 3; ++k) {
+				uint32_t u;
+				std::memcpy(&u, r + 1 + 4 * k, 4);
+				// (an int below zero is a huge uint: out of range either way)
+				if (u >= uint32_t(sp.vertices) || (!sp.unsignedIndex && u > uint32_t(INT32_MAX)))
+					return false;
+				put(done + i, k, u);
+			}
+		}
+		done += n;
+	}
+	return true;
+}
+
 /// The layout VCG and MeshLab write for a mesh without attributes: binary little endian, a vertex
 /// element of float x, y, z, then a face element of one "list uchar int|uint" index list, and no
-/// TextureFile comment. Reads its body into `out` if every face is a triangle of vertices in
-/// range and the body is complete; false (out empty) for anything else, left to the walk.
-inline bool readSimplePly(FILE *f, const PlyHeader &h, const vcg::ply::PlyFile &pf,
+/// TextureFile comment; a body of exactly 12 bytes per vertex and 13 per face (at least: VCG
+/// ignores what follows), every face a triangle of vertices in range (read here, in batches, to
+/// check). False (out.ok false) for anything else, left to the walk. Needs no memory of its own
+/// beyond a batch: readChecked reads the body again into the mesh.
+inline bool readSimplePly(FILE *f, const PlyHeader &h, const vcg::ply::PlyFile &pf, uint64_t size,
                           SimplePly &out)
 {
 	using namespace vcg::ply;
@@ -924,7 +959,7 @@ inline bool readSimplePly(FILE *f, const PlyHeader &h, const vcg::ply::PlyFile &
 		return false;
 	const PlyElement &ve = pf.elements[0], &fe = pf.elements[1];
 	if (ve.name != "vertex" || fe.name != "face" || ve.props.size() != 3 ||
-	    fe.props.size() != 1 || ve.number < 0 || fe.number < 0 || ve.number > INT32_MAX)
+	    fe.props.size() != 1 || ve.number < 0 || fe.number < 0)
 		return false;
 	static const char *const xyz[] = {"x", "y", "z"};
 	for (int k = 0; k < 3; ++k)
@@ -933,40 +968,27 @@ inline bool readSimplePly(FILE *f, const PlyHeader &h, const vcg::ply::PlyFile &
 			return false;
 	const PlyProperty &ip = fe.props[0];
 	if (!ip.islist || (ip.name != "vertex_indices" && ip.name != "vertex_index") ||
-	    ip.tipoindex != T_UCHAR || !(ip.tipo == T_INT || (ip.tipo == T_UINT && ip.name != "vertex_index")))
+	    ip.tipoindex != T_UCHAR ||
+	    !(ip.tipo == T_INT || (ip.tipo == T_UINT && ip.name != "vertex_index")))
 		return false;
 	for (const std::string &c : pf.comments)
 		if (c.compare(0, 11, "TextureFile") == 0)
 			return false;
-	const size_t nv = size_t(ve.number), nf = size_t(fe.number);
-	if (std::fseek(f, long(h.dataOffset), SEEK_SET) != 0)
+	SimplePly sp;
+	sp.offset = h.dataOffset;
+	sp.vertices = size_t(ve.number), sp.faces = size_t(fe.number);
+	sp.unsignedIndex = ip.tipo == T_UINT;
+	// (a body shorter than the counts say is the walk's to report, without reading it here)
+	if (size < sp.offset ||
+	    double(size - sp.offset) <
+	        double(kPlyVertexBytes) * double(sp.vertices) + double(kPlyFaceBytes) * double(sp.faces))
 		return false;
-	out.xyz.resize(3 * nv);
-	if (nv && std::fread(out.xyz.data(), 12, nv, f) != nv)
-		return out = SimplePly(), false;
-	out.tri.resize(3 * nf);
-	constexpr size_t kRecord = 13, kBatch = 1 << 14; // (a count byte and three indices)
-	std::vector<unsigned char> buf(kRecord * std::min(nf, kBatch));
-	const bool isUnsigned = ip.tipo == T_UINT;
-	for (size_t done = 0; done < nf;) {
-		const size_t n = std::min(nf - done, kBatch);
-		if (std::fread(buf.data(), kRecord, n, f) != n)
-			return out = SimplePly(), false;
-		for (size_t i = 0; i < n; ++i) {
-			const unsigned char *r = &buf[kRecord * i];
-			if (r[0] != 3)
-				return out = SimplePly(), false;
-			for (size_t k = 0; k < 3; ++k) {
-				uint32_t u;
-				std::memcpy(&u, r + 1 + 4 * k, 4);
-				// (an int below zero is a huge uint: out of range either way)
-				if (u >= uint32_t(nv) || (!isUnsigned && u > uint32_t(INT32_MAX)))
-					return out = SimplePly(), false;
-				out.tri[3 * (done + i) + k] = int32_t(u);
-			}
-		}
-		done += n;
-	}
+	if (std::fseek(f, long(sp.offset + kPlyVertexBytes * sp.vertices), SEEK_SET) != 0)
+		return false;
+	std::vector<unsigned char> buf;
+	if (!readPlyTriangles(f, sp, buf, [](size_t, int, uint32_t) {}))
+		return false;
+	out = sp;
 	out.ok = true;
 	return true;
 }
@@ -1068,7 +1090,7 @@ inline bool checkPly(const std::string &path, FILE *f, uint64_t size, double ver
 		return false;
 	if (!lists)
 		return true;
-	if (simple && readSimplePly(f, h, pf, *simple))
+	if (simple && readSimplePly(f, h, pf, size, *simple))
 		return true;
 
 	// walk the body once: list counts and face indices before plylib copies them
@@ -1484,22 +1506,39 @@ bool readChecked(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info)
 		std::vector<float>().swap(c.stl);
 		mask = c.facts.mask;
 	} else if (c.format == Format::Ply && c.ply.ok) {
-		// what ImporterPLY::Open builds from such a file (import_ply.h:670-690, 755-860, 1020-1070)
-		const size_t nv = c.ply.xyz.size() / 3, nf = c.ply.tri.size() / 3;
-		if (nv) {
-			auto vi = vcg::tri::Allocator<MeshT>::AddVertices(m, nv);
-			for (size_t i = 0; i < nv; ++i, ++vi)
-				for (int k = 0; k < 3; ++k)
-					(*vi).P()[k] = c.ply.xyz[3 * i + size_t(k)];
+		// what ImporterPLY::Open builds from such a file (import_ply.h:670-690, 755-860, 1020-1070),
+		// read again in batches straight into the mesh (checkPly checked the faces)
+		const SimplePly &sp = c.ply;
+		File file(path);
+		auto changed = [&] {
+			return corrupt(e, "PLY: the file changed while it was read");
+		};
+		if (!file.f || std::fseek(file.f, long(sp.offset), SEEK_SET) != 0)
+			return changed();
+		std::vector<unsigned char> buf(kPlyVertexBytes * std::min(sp.vertices, kPlyBatch));
+		if (sp.vertices) {
+			auto vi = vcg::tri::Allocator<MeshT>::AddVertices(m, sp.vertices);
+			for (size_t done = 0; done < sp.vertices;) {
+				const size_t n = std::min(sp.vertices - done, kPlyBatch);
+				if (std::fread(buf.data(), kPlyVertexBytes, n, file.f) != n)
+					return changed();
+				for (size_t i = 0; i < n; ++i, ++vi)
+					for (int k = 0; k < 3; ++k) {
+						float x;
+						std::memcpy(&x, &buf[kPlyVertexBytes * i + 4 * size_t(k)], 4);
+						(*vi).P()[k] = x;
+					}
+				done += n;
+			}
 		}
-		std::vector<float>().swap(c.ply.xyz);
-		if (nf) {
-			auto fi = vcg::tri::Allocator<MeshT>::AddFaces(m, nf);
-			for (size_t i = 0; i < nf; ++i, ++fi)
-				for (int k = 0; k < 3; ++k)
-					(*fi).V(k) = &m.vert[size_t(c.ply.tri[3 * i + size_t(k)])];
+		if (sp.faces) {
+			auto fi = vcg::tri::Allocator<MeshT>::AddFaces(m, sp.faces);
+			(void)fi;
+			if (!readPlyTriangles(file.f, sp, buf, [&](size_t face, int k, uint32_t v) {
+				    m.face[face].V(k) = &m.vert[v];
+			    }))
+				return changed();
 		}
-		std::vector<int32_t>().swap(c.ply.tri);
 		m.textures.clear();
 		m.normalmaps.clear();
 		vcg::tri::UpdateBounding<MeshT>::Box(m);

@@ -6,7 +6,11 @@
 // mesh types: as the tool reads it, and with the fast path off. Both must succeed or fail alike
 // (same status and message) and build the same mesh bit for bit: counts, every vertex's position
 // bits and flags, every face's vertex indices and flags, the load masks, texture names, bounding
-// box. At least MIN_FAST files must have taken the fast path (else it would test nothing).
+// box. At least MIN_FAST files must have taken the fast path (else it would test nothing). The
+// largest of those models is also written in variants of the layout (uint indices, the name
+// vertex_index, type aliases, CRLF header lines, trailing bytes, no faces) that must take the
+// fast path, and variants that must not (a quad in the last batch, an index out of range, a
+// short body, a face count larger than the file, a TextureFile comment, big endian).
 #include "gausslod_io/import_mesh.h"
 
 #include <wrap/io_trimesh/export_ply.h>
@@ -123,6 +127,63 @@ std::string compare(const std::string &path, bool &tookFast)
 	return "";
 }
 
+// A binary PLY of `m` (VCG's plain layout unless a variant changes it), written here byte by byte.
+struct Variant {
+	const char *name;
+	bool fast; ///< must take the fast path
+};
+void writeVariant(const gausslod::IoMesh &m, const std::string &path, const std::string &v)
+{
+	const bool crlf = v == "crlf", big = v == "big_endian";
+	const char *nl = crlf ? "\r\n" : "\n";
+	const size_t nv = m.vert.size(), nf = v == "no_faces" ? 0 : m.face.size();
+	std::string h = std::string("ply") + nl + "format " +
+	                (big ? "binary_big_endian" : "binary_little_endian") + " 1.0" + nl;
+	h += std::string("comment written by test_fast_ply") + nl;
+	if (v == "texture_comment")
+		h += std::string("comment TextureFile tex.png") + nl;
+	const std::string f = v == "aliases" ? "float32" : "float";
+	h += "element vertex " + std::to_string(nv) + nl;
+	for (const char *c : {"x", "y", "z"})
+		h += "property " + f + " " + c + nl;
+	h += "element face " + std::to_string(v == "lying_faces" ? nf * 1000 : nf) + nl;
+	h += std::string("property list ") + (v == "aliases" ? "uint8 int32" : v == "uint" ? "uchar uint" : "uchar int") +
+	     (v == "vertex_index" ? " vertex_index" : " vertex_indices") + nl + "end_header" + nl;
+	std::string body;
+	auto put = [&](const void *p, size_t n) {
+		std::string b(static_cast<const char *>(p), n);
+		if (big)
+			std::reverse(b.begin(), b.end());
+		body += b;
+	};
+	for (size_t i = 0; i < nv; ++i)
+		for (int k = 0; k < 3; ++k) {
+			const float x = m.vert[i].cP()[k];
+			put(&x, 4);
+		}
+	for (size_t i = 0; i < nf; ++i) {
+		const bool last = i + 1 == nf;
+		const unsigned char count = last && v == "quad_last" ? 4 : 3;
+		body += char(count);
+		for (int k = 0; k < count; ++k) {
+			int32_t x = int32_t(m.face[i].cV(k % 3) - m.vert.data());
+			if (last && k == 2 && v == "index_out_of_range")
+				x = int32_t(nv);
+			if (k == 3)
+				x = int32_t(m.face[0].cV(0) - m.vert.data());
+			put(&x, 4);
+		}
+	}
+	if (v == "short_body")
+		body.resize(body.size() - 5);
+	if (v == "trailing")
+		body += std::string(100, '\x7f');
+	FILE *out = std::fopen(path.c_str(), "wb");
+	std::fwrite(h.data(), 1, h.size(), out);
+	std::fwrite(body.data(), 1, body.size(), out);
+	std::fclose(out);
+}
+
 } // namespace
 
 int main(int argc, char **argv)
@@ -138,18 +199,51 @@ int main(int argc, char **argv)
 		collect(argv[i], plys, models);
 	mkdir(out.c_str(), 0755);
 	// VCG's exporter, binary, no attributes: the layout MeshLab saves such a mesh in
+	gausslod::IoMesh largest;
+	size_t exported = 0;
 	for (const std::string &m : models) {
 		gausslod::IoMesh mesh;
 		gausslod::ReadError e;
 		if (!gausslod::importMesh(mesh, m, e) || mesh.fn == 0)
 			continue;
+		if (mesh.face.size() > largest.face.size() && mesh.vn == int(mesh.vert.size()) &&
+		    mesh.fn == int(mesh.face.size()))
+			vcg::tri::Append<gausslod::IoMesh, gausslod::IoMesh>::MeshCopy(largest, mesh);
 		std::string name = m.substr(m.find_last_of('/') + 1);
 		name = out + "/" + name.substr(0, name.find_last_of('.')) + "_" +
 		       gausslod::detail::lowerExtension(m) + ".ply";
 		if (vcg::tri::io::ExporterPLY<gausslod::IoMesh>::Save(mesh, name.c_str(), 0, true) == 0)
-			plys.push_back(name);
+			plys.push_back(name), ++exported;
 	}
-	int fast = 0, failed = 0;
+	// the variants of the largest model (more faces than one batch of the fast path)
+	const Variant variants[] = {
+	    {"plain", true},           {"uint", true},          {"vertex_index", true},
+	    {"aliases", true},         {"crlf", true},          {"trailing", true},
+	    {"no_faces", true},        {"quad_last", false},    {"index_out_of_range", false},
+	    {"short_body", false},     {"lying_faces", false},  {"texture_comment", false},
+	    {"big_endian", false}};
+	int failed = 0;
+	if (largest.face.size() <= (1u << 14)) {
+		std::printf("FAIL: no model with more than one batch of faces for the variants\n");
+		++failed;
+	}
+	for (const Variant &v : variants) {
+		const std::string path = out + "/variant_" + v.name + ".ply";
+		writeVariant(largest, path, v.name);
+		bool lean = false;
+		gausslod::IoMesh probe;
+		gausslod::ReadError e;
+		gausslod::ReadInfo info;
+		gausslod::importMesh(probe, path, e, &info);
+		lean = info.fastPly;
+		if (lean != v.fast) {
+			std::printf("FAIL %s: fast path %s (wanted %s)\n", path.c_str(), lean ? "taken" : "not taken",
+			            v.fast ? "taken" : "not taken");
+			++failed;
+		}
+		plys.push_back(path);
+	}
+	int fast = 0;
 	for (const std::string &p : plys) {
 		bool lean = false, full = false;
 		const std::string d1 = compare<gausslod::IoMesh>(p, lean);
@@ -161,9 +255,10 @@ int main(int argc, char **argv)
 		}
 		fast += lean;
 	}
-	std::printf("%zu PLY files (%zu written by VCG's exporter from Debian's models): %d read by the "
-	            "fast path, %d differ from VCG's reader\n",
-	            plys.size(), models.size(), fast, failed);
+	std::printf("%zu PLY files (%zu written by VCG's exporter from Debian's models, %zu variants of "
+	            "one with %zu faces): %d read by the fast path, %d failed\n",
+	            plys.size(), exported, sizeof variants / sizeof variants[0],
+	            largest.face.size(), fast, failed);
 	if (fast < minFast) {
 		std::printf("FAIL: only %d files took the fast path (wanted at least %d)\n", fast, minFast);
 		return 1;
