@@ -994,7 +994,8 @@ inline bool readSimplePly(FILE *f, const PlyHeader &h, const vcg::ply::PlyFile &
 }
 
 /// Checks a PLY file before VCG's ImporterPLY reads it (see the top of this file); a file of the
-/// fast path's layout is read into `simple` instead (simple->ok), if `simple` is given.
+/// fast path's layout is checked by readSimplePly instead (simple->ok: readChecked reads it), if
+/// `simple` is given.
 inline bool checkPly(const std::string &path, FILE *f, uint64_t size, double vertexBytes,
                      double faceBytes, ReadError &e, FileFacts &facts, SimplePly *simple = nullptr)
 {
@@ -1381,7 +1382,7 @@ struct CheckedFile {
 	ObjScan obj;                     ///< OBJ: its triangles as the scan read them
 	std::unique_ptr<InFolder> folder; ///< OBJ: read from its own folder
 	std::string vcgPath;             ///< the name VCG opens
-	SimplePly ply;                   ///< PLY: the body, if the fast path read it
+	SimplePly ply;                   ///< PLY: where the fast path reads the body (ply.ok)
 };
 
 /// Everything before VCG reads the body: stat, sniffing, the guards of the format (see the top of
