@@ -915,9 +915,9 @@ inline bool hostLittleEndian()
 constexpr size_t kPlyVertexBytes = 12, kPlyFaceBytes = 13; // (xyz; a count byte, three indices)
 constexpr size_t kPlyBatch = 1 << 14;                       // records per fread
 
-/// Reads the face records [done, done + n) of a SimplePly file from `f` (positioned there) into
-/// `buf` and checks them: a count of 3 and indices within 0..vertices-1. Calls put(face, k,
-/// index) for each index of a good record; false at a short read or a bad record.
+/// Reads the face records of a SimplePly file from `f` (positioned at the first one), a batch at a
+/// time into `buf`, and checks them: a count of 3 and indices within 0..vertices-1. Calls
+/// put(face, k, index) for each index of a good record; false at a short read or a bad record.
 template <class Put>
 bool readPlyTriangles(FILE *f, const SimplePly &sp, std::vector<unsigned char> &buf, Put put)
 {
@@ -1533,8 +1533,7 @@ bool readChecked(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info)
 			}
 		}
 		if (sp.faces) {
-			auto fi = vcg::tri::Allocator<MeshT>::AddFaces(m, sp.faces);
-			(void)fi;
+			vcg::tri::Allocator<MeshT>::AddFaces(m, sp.faces);
 			if (!readPlyTriangles(file.f, sp, buf, [&](size_t face, int k, uint32_t v) {
 				    m.face[face].V(k) = &m.vert[v];
 			    }))

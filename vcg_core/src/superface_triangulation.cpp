@@ -489,17 +489,14 @@ bool insertFarthest(const TriangulationInput &in, int32_t s, const Vec3 &N, size
 				offerInsertion(in, w, o, firstTri, N, k, t.T[3 * in.faces.face[size_t(fb) + i] + c],
 				               w.farthest[size_t(k)]);
 		}
-	// a triangle too far from a face but from none of the vertices under it: a corner of that
-	// face (distanceCheck's)
-	if (w.farCorner.size() == ntri)
-		for (size_t k = 0; k < ntri; ++k)
-			if (w.farthest[k].second < 0 && w.farCorner[k].second >= 0)
-				w.farthest[k] = w.farCorner[k];
-	// a triangle a face deviates from beyond the normal limit: a corner of such a face
-	if (w.devCorner.size() == ntri)
-		for (size_t k = 0; k < ntri; ++k)
-			if (w.farthest[k].second < 0 && w.devCorner[k].second >= 0)
-				w.farthest[k] = w.devCorner[k];
+	// a triangle with no such vertex: a corner of a face too far from it but from none of the
+	// vertices under it (distanceCheck's), else of a face deviating from it beyond the normal
+	// limit (deviationWithinLimit's)
+	for (const auto *corner : {&w.farCorner, &w.devCorner})
+		if (corner->size() == ntri)
+			for (size_t k = 0; k < ntri; ++k)
+				if (w.farthest[k].second < 0 && (*corner)[k].second >= 0)
+					w.farthest[k] = (*corner)[k];
 	const size_t before = w.ringVerts.size();
 	for (const auto &best : w.farthest) {
 		const int32_t v = best.second;
