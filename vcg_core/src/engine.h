@@ -298,6 +298,8 @@ struct FaceAreas : FaceMeasure {
 	double operator[](size_t f) const { return area(f); }
 };
 
+constexpr int64_t kNoEuler = INT64_MIN; ///< Topology::euler of an input that is not clean
+
 /// Everything derived once from the input mesh.
 struct Topology {
 	Topology() = default;
@@ -332,6 +334,12 @@ struct Topology {
 	std::vector<uint8_t> vertexClass;     ///< VertexClass (2.3.2)
 	std::vector<int32_t> vfStart, vfFace; ///< vertex -> incident faces (CSR)
 	FaceGrid grid;                        ///< the valid faces, for nearest-face queries
+	/// The surface's Euler characteristic V - E + F, if the input is a clean 2-manifold (every
+	/// face valid, none dropped or kept by the caller, no vertex locked: every edge has a twin or
+	/// is a true boundary edge, every vertex one fan); kNoEuler otherwise. Every level is then a
+	/// surface of the same topology: see levelFaceBound.
+	int64_t euler = kNoEuler;
+	std::vector<int32_t> boundaryVertex; ///< with `euler`: the vertices on the mesh's boundary
 
 	Vec3 pos(int32_t v) const { return Vec3(P[3 * v], P[3 * v + 1], P[3 * v + 2]); }
 	/// The twin a superface may grow across: -1 on a delimiter.
@@ -375,6 +383,13 @@ void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &topo,
                    bool withGrid = true);
 /// topo.grid over the valid faces (see FaceGrid); needs the faces' validity.
 void buildFaceGrid(Topology &topo);
+
+/// A lower bound on the faces of any level whose kept vertices include those flagged in `kept`
+/// (per vertex, nonzero), by Euler's formula: a level of a clean surface (Topology::euler) is a
+/// triangulated surface of the same topology whose boundary edges join its boundary vertices,
+/// so it has F = 2 V - V_b - 2 chi faces, V of them vertices, V_b on the boundary. 0 if the
+/// input is not clean.
+size_t levelFaceBound(const Topology &topo, const std::vector<uint8_t> &kept);
 
 /// 2.2.1 The finest near-coplanar sets: faces of one cell connected through 2-manifold edges.
 void finestPartition(const Topology &topo, int level, Partition &out);

@@ -167,7 +167,7 @@ private:
 	{
 		return TriangulationInput{t_, p_, faces_, borders_, rings_, limits_, finerCost_};
 	}
-	void buildRound(bool patch);
+	bool buildRound(bool patch);
 	void markDirty(bool patch);
 	void buildSuperface(int32_t s, Scratch &w, ChunkOut &o);
 	bool takeExact(int32_t s, Scratch &w, ChunkOut &o);
@@ -187,7 +187,11 @@ void LevelRounds::run()
 	for (;; ++round) {
 		if (round == kMaxRounds) // give up simplifying: every vertex kept is always valid
 			std::fill(fb_.extraLock.begin(), fb_.extraLock.end(), uint8_t(1));
-		buildRound(round > 0 && round < kMaxRounds);
+		if (!buildRound(round > 0 && round < kMaxRounds)) { // (out_.stats.faces > faceLimit_)
+			out_.stats.rounds = round + 1;
+			out_.stats.secondsBorders += clock_.lap();
+			return;
+		}
 		firstRound_ = false;
 		if (failed_.empty() || round >= kMaxRounds)
 			break;
@@ -209,7 +213,8 @@ void LevelRounds::run()
 		out_.stats.secondsChecks += clock_.lap();
 	}
 	out_.stats.rounds = round + 1;
-	if (place_ && limits_.maxDistance > 0) {
+	// (a level with more faces than the finer one is the finer one: placement moves no count)
+	if (place_ && limits_.maxDistance > 0 && (liveTris_ <= faceLimit_ || !failed_.empty())) {
 		out_.stats.secondsChecks += clock_.lap();
 		placeVertices(PlacementInput{t_, p_, faces_, limits_, tri_, cache_, fb_.extraLock}, chunks_,
 		              borders_, rings_, measures_, placement_);
@@ -235,7 +240,9 @@ void LevelRounds::markDirty(bool patch)
 			dirty_[size_t(p_.label[size_t(t_.vfFace[size_t(q)])])] = 1;
 }
 
-void LevelRounds::buildRound(bool patch)
+// False, with out_.stats.faces set, if the level cannot have faceLimit_ faces or fewer (then it
+// builds nothing).
+bool LevelRounds::buildRound(bool patch)
 {
 	failed_.clear(), failedTris_ = 0;
 	// (freed, not cleared: they are rebuilt from the chunks, which hold this round's triangles
@@ -247,6 +254,15 @@ void LevelRounds::buildRound(bool patch)
 		findBorders(t_, p_, fb_, chunks_.threads, borders_);
 	} else {
 		updateBorders(t_, p_, fb_, borders_);
+	}
+	// The chain ends (junctions) are kept by every later round (fallbacks add borders and locks,
+	// never take any): by Euler's formula, at least this many faces whatever the rounds give
+	if (faceLimit_ != SIZE_MAX) {
+		const size_t atLeast = levelFaceBound(t_, borders_.junction);
+		if (atLeast > faceLimit_) {
+			out_.stats.faces = atLeast;
+			return false;
+		}
 	}
 	markDirty(patch);
 	chunks_.make(faces_, p_.count(), t_.nF);
@@ -274,12 +290,13 @@ void LevelRounds::buildRound(bool patch)
 	liveTris_ = live;
 	if (patch && failures && appendPatch(rebuilt, live)) {
 		out_.stats.secondsTriangulation += clock_.lap();
-		return;
+		return true;
 	}
 	concatenate(live, failures);
 	out_.stats.secondsTriangulation += clock_.lap();
 	if (failed_.empty())
 		checkLevelEdges(t_, p_.count(), tri_, failed_, failedTris_);
+	return true;
 }
 
 // One superface of a round: copied from the previous round when nothing around it changed, else

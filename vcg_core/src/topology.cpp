@@ -421,6 +421,47 @@ void lockKeptFaces(Topology &t)
 				t.vertexLocked[size_t(t.T[3 * f + k])] = 1;
 }
 
+// Topology::euler and boundaryVertex, for a clean input only (see there).
+static void surfaceEuler(Topology &t)
+{
+	t.euler = kNoEuler;
+	t.boundaryVertex.clear();
+	if (t.keepFace)
+		return;
+	for (size_t f = 0; f < t.nF; ++f)
+		if (t.faceDropped[f] || !t.faceValid[f])
+			return;
+	int64_t vertices = 0, edges = 0;
+	for (size_t v = 0; v < t.nV; ++v) {
+		if (t.vertexLocked[v])
+			return;
+		vertices += t.vfStart[v + 1] > t.vfStart[v];
+	}
+	// (no vertex locked: a half-edge without twin is on no other face, and each boundary vertex
+	// has one fan, so one boundary half-edge leaving it)
+	for (size_t h = 0; h < t.twin.size(); ++h) {
+		if (t.twin[h] < 0)
+			++edges, t.boundaryVertex.push_back(t.T[h]);
+		else if (t.twin[h] > int32_t(h))
+			++edges;
+	}
+	t.euler = vertices - edges + int64_t(t.nF);
+}
+
+size_t levelFaceBound(const Topology &t, const std::vector<uint8_t> &kept)
+{
+	if (t.euler == kNoEuler)
+		return 0;
+	int64_t n = 0, boundary = 0;
+	for (size_t v = 0; v < t.nV; ++v)
+		n += kept[v] != 0;
+	for (const int32_t v : t.boundaryVertex)
+		boundary += kept[size_t(v)] != 0;
+	// (every other vertex of the level adds 2 faces, or 1 on the boundary)
+	const int64_t faces = 2 * n - boundary - 2 * t.euler;
+	return faces > 0 ? size_t(faces) : 0;
+}
+
 void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &t, size_t threads,
                    bool withGrid)
 {
@@ -439,6 +480,7 @@ void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &t, si
 	lockNonManifoldVertices(t, threads);
 	lockKeptFaces(t);
 	classifyVertices(t, featureAngleDeg, threads);
+	surfaceEuler(t);
 	if (withGrid)
 		buildFaceGrid(t);
 }
