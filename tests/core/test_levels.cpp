@@ -380,3 +380,72 @@ TEST(Levels, exact_superfaces_carried_to_the_coarser_level_give_the_same_level)
 		EXPECT_EQ(with.stats.placedVertices, without.stats.placedVertices);
 	}
 }
+
+TEST(Levels, a_level_whose_finer_level_is_carried_whole_is_that_level_as_built)
+{
+	// DESIGN 36: where the finer level's superfaces are all exact, carried, with chain ends only
+	// (the grid cube, joint's planar parts), and the coarser partition is the same, buildLevels
+	// takes the finer mesh without a build. Each level must be what building it gives: the
+	// chain is built here level by level, every level built, and compared.
+	const std::pair<const char *, bool> models[] = {
+	    {"grid cube", true}, {"joint.off", false}, {"annulus", false}, {"fandisk.off", false}};
+	for (const auto &model : models) {
+		const std::string name = model.first;
+		SCOPED_TRACE(name);
+		const FlatMesh m = name == "grid cube" ? gridCube(20)
+		                   : name == "annulus" ? flatAnnulus(110, 6)
+		                                       : weldedCopy(loadOff(name));
+		const Params prm;
+		const Result r = buildLevels(m.view(), prm);
+		ASSERT_TRUE(r.ok) << r.error;
+		ASSERT_EQ(r.levels.size(), size_t(prm.maxLevel));
+		detail::Topology t;
+		detail::buildTopology(m.view(), prm.featureAngle, t);
+		const int finest = prm.maxLevel - 1;
+		auto across = [&](int level) { return std::min(levelBoundDeg(level), prm.featureAngle); };
+		std::vector<detail::Partition> parts(size_t(prm.maxLevel));
+		detail::finestPartition(t, finest, parts[size_t(finest)]);
+		detail::mergeAcrossCells(t, across(finest), parts[size_t(finest)]);
+		LevelMesh finer;
+		detail::ExactCarry carry, next;
+		size_t taken = 0; // levels buildLevels took without a build
+		for (int level = finest; level >= 0; --level) {
+			SCOPED_TRACE(level);
+			detail::SplitCost cost;
+			if (level < finest) {
+				detail::coarserPartition(t, parts[size_t(level) + 1], parts[size_t(level)],
+				                         int8_t(level));
+				detail::mergeAcrossCells(t, across(level), parts[size_t(level)]);
+				detail::triangleShare(parts[size_t(level) + 1], finer, cost);
+			}
+			LevelMesh lm;
+			detail::buildLevelGeometry(t, prm, parts, parts[size_t(level)], lm,
+			                           level < finest ? finer.stats.faces : SIZE_MAX,
+			                           level < finest ? &cost : nullptr, &carry, &next);
+			std::swap(carry, next);
+			const LevelMesh &got = r.levels[size_t(finest - level)];
+			if (got.stats.reusedFiner) // (replaced by the finer level: this chain stops here)
+				break;
+			EXPECT_EQ(got.triangles, lm.triangles);
+			EXPECT_EQ(got.positions, lm.positions);
+			EXPECT_EQ(got.superface, lm.superface);
+			EXPECT_EQ(got.borderEdges, lm.borderEdges);
+			EXPECT_EQ(got.inputSuperface, lm.inputSuperface);
+			EXPECT_EQ(got.sourceVertex, lm.sourceVertex);
+			EXPECT_EQ(got.stats.superfaces, lm.stats.superfaces);
+			EXPECT_EQ(got.stats.retriangulated, lm.stats.retriangulated);
+			EXPECT_EQ(got.stats.carriedSuperfaces, lm.stats.carriedSuperfaces);
+			EXPECT_EQ(got.stats.rounds, lm.stats.rounds);
+			EXPECT_EQ(got.stats.maxNormalDevDeg, lm.stats.maxNormalDevDeg);
+			EXPECT_EQ(got.stats.meanNormalDevDeg, lm.stats.meanNormalDevDeg);
+			EXPECT_EQ(got.stats.unmeasuredFaces, lm.stats.unmeasuredFaces);
+			EXPECT_EQ(got.stats.distanceBound, lm.stats.distanceBound);
+			EXPECT_EQ(got.stats.boundDeg, lm.stats.boundDeg);
+			EXPECT_EQ(got.stats.level, lm.stats.level);
+			// (no borders traced: the level took no time there)
+			taken += got.stats.secondsBorders == 0.0;
+			finer = lm;
+		}
+		EXPECT_EQ(taken > 0, model.second) << taken;
+	}
+}

@@ -433,6 +433,10 @@ struct ExactCarry {
 	std::vector<int32_t> tris;
 	std::vector<uint8_t> bits;
 	std::vector<float> dev, gap, tex;
+	/// Every superface carried, in one round (no fallback), no vertex placed, every vertex of the
+	/// level a chain end (a junction): a coarser level with the same partition would take every
+	/// superface as it is, so it is this level (DESIGN 36).
+	bool whole = false;
 	bool empty() const { return tris.empty(); }
 };
 void buildLevelGeometry(const Topology &topo, const Params &params,

@@ -2,6 +2,7 @@
 // then level by level from fine to coarse: geometry of the level, then the partition of the next
 // coarser level by merging sibling cells.
 #include "engine.h"
+#include "level_passes.h"
 
 #include <chrono>
 #include <cmath>
@@ -154,6 +155,30 @@ bool prepare(const MeshView &input, const Params &params, Result &res, MeshView 
 // its Hausdorff distance).
 constexpr double kMinLevelSaving = 0.01;
 
+// Would a superface be held to more under limits a than under b (a smaller straightening or
+// distance tolerance, or normal limit)?
+bool tighter(const detail::LevelLimits &a, const detail::LevelLimits &b)
+{
+	return a.tolerance < b.tolerance || a.maxDistance < b.maxDistance ||
+	       a.devLimitDeg < b.devLimitDeg || a.mergeDistance < b.mergeDistance;
+}
+
+// The finer level's mesh, as level `lm` (its positions and input labels were dropped from
+// `finer`: see buildLevels), on the partition labels `label` (the same superfaces).
+void takeFinerMesh(const MeshView &mesh, const std::vector<int32_t> &label, LevelMesh &finer,
+                   const std::vector<std::pair<int32_t, detail::Vec3>> &finerPlaced, LevelMesh &lm)
+{
+	lm = std::move(finer);
+	lm.positions.resize(3 * lm.sourceVertex.size());
+	for (size_t v = 0; v < lm.sourceVertex.size(); ++v)
+		for (size_t k = 0; k < 3; ++k)
+			lm.positions[3 * v + k] = mesh.positions[3 * size_t(lm.sourceVertex[v]) + k];
+	for (const auto &pv : finerPlaced) // (and its placed vertices)
+		for (size_t k = 0; k < 3; ++k)
+			lm.positions[3 * size_t(pv.first) + k] = pv.second[int(k)];
+	lm.inputSuperface = label;
+}
+
 // A coarser level that came out with more faces than the finer one (2.5 promises monotone face
 // counts), or farther from the input for under kMinLevelSaving fewer, is the finer level's mesh:
 // its partition, with the cells of this level.
@@ -169,15 +194,7 @@ void keepFinerLevel(const MeshView &mesh, int level, std::vector<detail::Partiti
 	for (CellKey &c : p.cell)
 		c = c == kInvalidCell ? c : parentKey(c);
 	const LevelStats spent = lm.stats; // the time was spent all the same
-	lm = std::move(finer);
-	lm.positions.resize(3 * lm.sourceVertex.size()); // (dropped from `finer`, see buildLevels)
-	for (size_t v = 0; v < lm.sourceVertex.size(); ++v)
-		for (size_t k = 0; k < 3; ++k)
-			lm.positions[3 * v + k] = mesh.positions[3 * size_t(lm.sourceVertex[v]) + k];
-	for (const auto &pv : finerPlaced) // (and its placed vertices)
-		for (size_t k = 0; k < 3; ++k)
-			lm.positions[3 * size_t(pv.first) + k] = pv.second[int(k)];
-	lm.inputSuperface = p.label;
+	takeFinerMesh(mesh, p.label, finer, finerPlaced, lm);
 	lm.stats.secondsPartition = spent.secondsPartition;
 	lm.stats.secondsBorders = spent.secondsBorders;
 	lm.stats.secondsTriangulation = spent.secondsTriangulation;
@@ -386,12 +403,34 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			LevelMesh lm;
 			const double partitionSeconds = since(tl) + (level == finest ? setup : 0.0);
 			const double tolerance = byFaces ? 1.0 : levelTolerance(params, level);
-			const bool share = level < finest && tolerance > 0;
+			// DESIGN 36: the finer level carried whole (ExactCarry::whole) and the same
+			// superfaces here, with limits no tighter: building would take every superface as
+			// it is, so the level is the finer level's mesh (one linear pass, not a build)
+			const bool sameAsFiner =
+			    byAngle && level < finest && carry.whole &&
+			    parts[size_t(level)].label == parts[size_t(level) + 1].label &&
+			    !tighter(levelLimits(params, topo.diagonal, level, topo.UV != nullptr),
+			             levelLimits(params, topo.diagonal, level + 1, topo.UV != nullptr));
+			if (sameAsFiner) {
+				takeFinerMesh(mesh, parts[size_t(level)].label, finer, finerPlaced, lm);
+				lm.stats.level = level;
+				lm.stats.boundDeg = levelBoundDeg(level);
+				lm.stats.carriedSuperfaces = lm.stats.superfaces;
+				lm.stats.rounds = 1;
+				lm.stats.tolerance = tolerance;
+				lm.stats.secondsBorders = lm.stats.secondsTriangulation = 0;
+				lm.stats.secondsChecks = lm.stats.secondsPlacement = 0;
+				nextCarry = std::move(carry);
+				nextCarry.label = &parts[size_t(level)].label;
+			}
+			const bool share = level < finest && tolerance > 0 && !sameAsFiner;
 			if (share)
 				triangleShare(byFaces ? levelPart : parts[size_t(level) + 1], finer, finerCost);
 			const size_t faceLimit = level < finest ? finer.stats.faces : SIZE_MAX;
 			const size_t target = byFaces ? faceTarget(params, level, mesh.faceCount) : 0;
-			if (byFaces) {
+			if (sameAsFiner) {
+				// (built above)
+			} else if (byFaces) {
 				buildToFaceTarget(topo, params, parts, level, target, faceLimit,
 				                  share ? &finerCost : nullptr, lm, merged);
 			} else {
@@ -404,7 +443,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			lm.stats.secondsPartition = partitionSeconds;
 			// (a coarser level must be lighter than the finer one; in angle mode, if it is farther
 			// from the input, by at least kMinLevelSaving)
-			if (level < finest &&
+			if (level < finest && !sameAsFiner &&
 			    (lm.stats.faces > finer.stats.faces ||
 			     (byAngle && lm.stats.distanceBound > finer.stats.distanceBound &&
 			      double(lm.stats.faces) > (1 - kMinLevelSaving) * double(finer.stats.faces)))) {

@@ -441,6 +441,12 @@ void LevelRounds::carryExact()
 		ec.last[sf] = int32_t(ec.bits.size());
 		ec.measureAt[sf + 1] = int32_t(ec.dev.size());
 	}
+	// (straightening keeps every chain end; a chain that keeps nothing else keeps nothing else
+	// with a tolerance at least as large: with the same borders, the same outlines)
+	ec.whole = out_.stats.rounds == 1 && placement_.moved == 0 &&
+	           std::find(ec.first.begin(), ec.first.end(), -1) == ec.first.end();
+	for (size_t k = 0; k < tri_.tris.size() && ec.whole; ++k)
+		ec.whole = borders_.junction[size_t(tri_.tris[k])] != 0;
 }
 
 // A patch round with failures is followed by another round: the rebuilt superfaces are appended
