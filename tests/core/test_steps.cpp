@@ -7,6 +7,9 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <chrono>
+#include <thread>
 #include <cmath>
 #include <cstdio>
 
@@ -568,4 +571,42 @@ TEST(LevelGeometry, a_level_whose_chain_ends_need_more_faces_than_its_limit_buil
 	EXPECT_GT(cut.stats.faces, 100u);
 	EXPECT_EQ(cut.stats.secondsTriangulation, 0.0);
 	EXPECT_EQ(cut.stats.retriangulated, 0u);
+}
+
+TEST(FaceGrid, cones_shared_by_two_threads_are_the_cones_one_thread_computes)
+{
+	// buildLevels lets the partition's thread join the grid's cones once it is done: every
+	// bucket's cone must be computed (once) and be what one thread gives. fandisk_large (31,682
+	// faces: two chunks of faces), a noisy grid cube (172,800: eleven) and the cow, with the
+	// threads started at once and with one of them late (it finds most chunks taken).
+	for (const char *name : {"fandisk_large.off", "noisy cube", "cow.off"}) {
+		SCOPED_TRACE(name);
+		const FlatMesh m = std::string(name) == "noisy cube" ? gridCube(120, 1.0, 1e-3, 5) : loadOff(name);
+		detail::Topology one;
+		detail::buildTopology(m.view(), 30.0, one);
+		ASSERT_GT(one.grid.cone.size(), 1000u);
+		for (int late = 0; late < 2; ++late) {
+			detail::Topology two;
+			detail::buildTopology(m.view(), 30.0, two, 2, false);
+			detail::buildFaceGridLists(two);
+			ASSERT_EQ(two.grid.cone.size(), one.grid.cone.size());
+			std::atomic<size_t> next(0);
+			std::vector<uint8_t> taken(two.grid.cone.size(), 0);
+			std::thread other([&] {
+				if (late)
+					std::this_thread::sleep_for(std::chrono::milliseconds(5));
+				detail::buildFaceGridCones(two, next, taken);
+			});
+			detail::buildFaceGridCones(two, next, taken);
+			other.join();
+			EXPECT_EQ(two.grid.cone, one.grid.cone);
+			EXPECT_EQ(two.grid.start, one.grid.start);
+			EXPECT_EQ(two.grid.face, one.grid.face);
+			EXPECT_EQ(two.grid.big, one.grid.big);
+			size_t nonEmpty = 0;
+			for (size_t c = 0; c + 1 < two.grid.start.size(); ++c)
+				nonEmpty += two.grid.start[c] < two.grid.start[c + 1];
+			EXPECT_EQ(size_t(std::count(taken.begin(), taken.end(), uint8_t(1))), nonEmpty);
+		}
+	}
 }

@@ -8,6 +8,7 @@
 #include <vcg/space/point3.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <exception>
@@ -383,6 +384,12 @@ void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &topo,
                    bool withGrid = true);
 /// topo.grid over the valid faces (see FaceGrid); needs the faces' validity.
 void buildFaceGrid(Topology &topo);
+/// buildFaceGrid in two steps, for more than one thread: the lists (serial), then the buckets'
+/// cones, which any number of threads may compute at once, sharing `next` (0) and `taken` (a
+/// zero per bucket, topo.grid.cone.size()): each takes chunks of faces from `next` and computes
+/// the cone of every bucket it is the first to meet (a bucket's cone does not depend on who).
+void buildFaceGridLists(Topology &topo);
+void buildFaceGridCones(Topology &topo, std::atomic<size_t> &next, std::vector<uint8_t> &taken);
 
 /// A lower bound on the faces of any level whose kept vertices include those flagged in `kept`
 /// (per vertex, nonzero), by Euler's formula: a level of a clean surface (Topology::euler) is a

@@ -3,6 +3,7 @@
 #include "engine.h"
 
 #include <algorithm>
+#include <atomic>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -248,13 +249,49 @@ void classifyVertices(Topology &t, double thresholdDeg, size_t threads)
 
 } // namespace
 
-// Cells about twice the median face extent; a face that would span more than kBigCells cells is
+// A face whose box would meet more cells than this is listed apart (FaceGrid::big).
+constexpr double kFaceGridBigCells = 64;
+
+// The cells (from `lo`, of side 1 / inv) that face f's box meets: i0..i1 per axis; returns their
+// number (every coordinate is >= lo: truncation is floor).
+static double faceCellRange(const Topology &t, const double lo[3], double inv, size_t f,
+                            int64_t i0[3], int64_t i1[3])
+{
+	double n = 1;
+	for (int k = 0; k < 3; ++k) {
+		double a = HUGE_VAL, b = -HUGE_VAL;
+		for (int c = 0; c < 3; ++c) {
+			const double x = t.P[3 * size_t(t.T[3 * f + size_t(c)]) + size_t(k)];
+			a = std::min(a, x), b = std::max(b, x);
+		}
+		i0[k] = int64_t((a - lo[k]) * inv), i1[k] = int64_t((b - lo[k]) * inv);
+		n *= double(i1[k] - i0[k] + 1);
+	}
+	return n;
+}
+
+// Calls fn(bucket) for every cell of t.grid that face f's box meets; false (and no call) for a
+// big face.
+template <class Fn>
+static bool forFaceBuckets(const Topology &t, size_t f, Fn fn)
+{
+	const FaceGrid &g = t.grid;
+	int64_t i0[3], i1[3];
+	if (faceCellRange(t, g.lo, 1.0 / g.cell, f, i0, i1) > kFaceGridBigCells)
+		return false;
+	for (int64_t z = i0[2]; z <= i1[2]; ++z)
+		for (int64_t y = i0[1]; y <= i1[1]; ++y)
+			for (int64_t x = i0[0]; x <= i1[0]; ++x)
+				fn(FaceGrid::bucketOf(x, y, z, g.mask));
+	return true;
+}
+
+// Cells about twice the median face extent; a face that would span more than kFaceGridBigCells cells is
 // kept in a separate list that every query scans (a few huge faces among many tiny ones must
 // neither be walked cell by cell nor make the cells huge); cells grow while that list or the
 // listing grows too long.
-void buildFaceGrid(Topology &t)
+void buildFaceGridLists(Topology &t)
 {
-	constexpr double kBigCells = 64;
 	FaceGrid &g = t.grid;
 	g.start.assign(1, 0);
 	g.face.clear(), g.big.clear(), g.cone.clear();
@@ -287,17 +324,6 @@ void buildFaceGrid(Topology &t)
 	const double median = extent[valid / 2];
 	std::vector<double>().swap(extent);
 	g.cell = median > 0 ? 2.0 * median : (t.diagonal > 0 ? t.diagonal : 1.0);
-	// every coordinate is >= lo: truncation is floor
-	auto range = [&](size_t f, double inv, int64_t i0[3], int64_t i1[3]) {
-		double a[3], b[3];
-		box(f, a, b);
-		double n = 1;
-		for (int k = 0; k < 3; ++k) {
-			i0[k] = int64_t((a[k] - lo[k]) * inv), i1[k] = int64_t((b[k] - lo[k]) * inv);
-			n *= double(i1[k] - i0[k] + 1);
-		}
-		return n; // cells the face's box meets
-	};
 	// counted, not visited
 	for (int attempt = 0; attempt < 200; ++attempt) {
 		const double inv = 1.0 / g.cell;
@@ -306,8 +332,8 @@ void buildFaceGrid(Topology &t)
 		for (size_t f = 0; f < t.nF; ++f)
 			if (t.faceValid[f]) {
 				int64_t i0[3], i1[3];
-				const double n = range(f, inv, i0, i1);
-				if (n > kBigCells)
+				const double n = faceCellRange(t, lo, inv, f, i0, i1);
+				if (n > kFaceGridBigCells)
 					++big;
 				else
 					entries += n;
@@ -316,17 +342,6 @@ void buildFaceGrid(Topology &t)
 			break;
 		g.cell *= 2;
 	}
-	const double inv = 1.0 / g.cell;
-	auto forCells = [&](size_t f, auto fn) {
-		int64_t i0[3], i1[3];
-		if (range(f, inv, i0, i1) > kBigCells)
-			return false;
-		for (int64_t z = i0[2]; z <= i1[2]; ++z)
-			for (int64_t y = i0[1]; y <= i1[1]; ++y)
-				for (int64_t x = i0[0]; x <= i1[0]; ++x)
-					fn(FaceGrid::bucketOf(x, y, z, g.mask));
-		return true;
-	};
 	size_t buckets = 1;
 	while (buckets < valid)
 		buckets <<= 1;
@@ -337,14 +352,25 @@ void buildFaceGrid(Topology &t)
 	    [&](auto emit) {
 		    g.big.clear();
 		    for (size_t f = 0; f < t.nF; ++f)
-			    if (t.faceValid[f] && !forCells(f, [&](uint64_t c) { emit(c, int32_t(f)); }))
+			    if (t.faceValid[f] && !forFaceBuckets(t, f, [&](uint64_t c) { emit(c, int32_t(f)); }))
 				    g.big.push_back(int32_t(f));
 	    },
 	    g.start, g.face);
-	// each bucket's normal cone: the mean normal, rounded to int8 (the bound is measured from
-	// the rounded axis), and s / 254 >= sin of the widest angle from it, rounded up with a
-	// margin of one step (far above the rounding of the dot products that use it)
-	g.cone.resize(buckets);
+	// (a bucket's cone is computed once a face of it is met, see buildFaceGridCones: the empty
+	// ones keep this, what the faces of none give)
+	g.cone.assign(buckets, FaceGrid::packCone(0, 0, 0, 255));
+}
+
+// The cones of the buckets (FaceGrid::cone) met by the faces of the chunks taken from `next`
+// (kConeChunk faces each); several threads may run it at once on the same `next` and `taken`
+// (a flag per bucket, zeroed): each bucket's cone is computed once, by whoever meets it first,
+// and is the same whoever does.
+void buildFaceGridCones(Topology &t, std::atomic<size_t> &next, std::vector<uint8_t> &taken)
+{
+	constexpr size_t kConeChunk = 16384;
+	FaceGrid &g = t.grid;
+	if (g.start.size() < 2)
+		return;
 	std::vector<Vec3> normal; // of a bucket's faces (each computed once: see FaceMeasure)
 	auto cone = [&](size_t c) {
 		Vec3 sum(0, 0, 0);
@@ -375,18 +401,22 @@ void buildFaceGrid(Topology &t)
 	// buckets in the order of their first face, not of their hash: the faces of consecutive
 	// buckets are then near each other in memory (the same cones; measured on the 1M mesh, the
 	// cones took 0.2 s in hash order, most of it waiting for memory)
-	std::vector<uint8_t> done(buckets, 0);
-	for (size_t f = 0; f < t.nF; ++f)
-		if (t.faceValid[f])
-			forCells(f, [&](uint64_t c) {
-				if (!done[c]) {
-					done[c] = 1;
-					cone(size_t(c));
-				}
-			});
-	for (size_t c = 0; c < buckets; ++c) // (the empty buckets: big faces are in no bucket)
-		if (!done[c])
-			cone(c);
+	for (size_t c0; (c0 = next.fetch_add(kConeChunk)) < t.nF;)
+		for (size_t f = c0; f < std::min(t.nF, c0 + kConeChunk); ++f)
+			if (t.faceValid[f])
+				forFaceBuckets(t, f, [&](uint64_t c) {
+					if (!__atomic_load_n(&taken[c], __ATOMIC_RELAXED) &&
+					    !__atomic_exchange_n(&taken[c], uint8_t(1), __ATOMIC_RELAXED))
+						cone(size_t(c));
+				});
+}
+
+void buildFaceGrid(Topology &t)
+{
+	buildFaceGridLists(t);
+	std::atomic<size_t> next(0);
+	std::vector<uint8_t> taken(t.grid.cone.size(), 0);
+	buildFaceGridCones(t, next, taken);
 }
 
 // Delimiters (MeshView::faceKey, cornerKey): twin edges whose faces differ in key, or in the
