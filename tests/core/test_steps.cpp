@@ -610,3 +610,84 @@ TEST(FaceGrid, cones_shared_by_two_threads_are_the_cones_one_thread_computes)
 		}
 	}
 }
+
+TEST(Hierarchy, a_coarser_partition_known_from_the_finer_level_is_the_one_computed_from_the_faces)
+{
+	// sameCoarserPartition answers from a level's mesh (which superfaces touch) and the nodes
+	// mergeAcrossCells measured: where it answers, the partition must be what coarserPartition
+	// and mergeAcrossCells compute from the faces, at every level; where superfaces could group
+	// or merge it must not answer. The grid cube (6 superfaces, 90 degrees apart: it answers at
+	// every level), a noisy cube and fandisk (superfaces that merge: it must refuse there).
+	size_t answered = 0, refused = 0;
+	for (const char *name : {"grid cube", "noisy cube", "fandisk.off", "noisy cube, no merges across cells",
+	                         "fandisk.off, no merges across cells"}) {
+		SCOPED_TRACE(name);
+		Params prm;
+		prm.acrossCells = std::string(name).find(", no merges") == std::string::npos;
+		const std::string n = std::string(name).substr(0, std::string(name).find(','));
+		const FlatMesh m = n == "grid cube" ? gridCube(20) : n == "noisy cube" ? gridCube(20, 1.0, 2e-3, 7)
+		                                                                       : loadOff(n);
+		detail::Topology t;
+		detail::buildTopology(m.view(), prm.featureAngle, t);
+		const int finest = prm.maxLevel - 1;
+		auto across = [&](int level) {
+			return prm.acrossCells ? std::min(levelBoundDeg(level), prm.featureAngle) : -1.0;
+		};
+		std::vector<detail::Partition> parts(size_t(prm.maxLevel));
+		detail::finestPartition(t, finest, parts[size_t(finest)]);
+		if (prm.acrossCells)
+			detail::mergeAcrossCells(t, across(finest), parts[size_t(finest)]);
+		for (int level = finest; level > 0; --level) {
+			SCOPED_TRACE(level);
+			LevelMesh lm;
+			detail::Partition built = parts[size_t(level)];
+			detail::buildLevelGeometry(t, prm, parts, built, lm, SIZE_MAX);
+			if (lm.stats.rounds > 1) // (fallbacks changed the partition: not what it is for)
+				break;
+			detail::Partition computed, known;
+			detail::coarserPartition(t, built, computed, int8_t(level - 1));
+			if (prm.acrossCells)
+				detail::mergeAcrossCells(t, across(level - 1), computed);
+			if (!detail::sameCoarserPartition(
+			        built, detail::superfacePairs(lm.triangles, lm.superface), across(level - 1), known)) {
+				++refused;
+			} else {
+				++answered;
+				EXPECT_EQ(known.level, computed.level);
+				EXPECT_EQ(known.label, computed.label);
+				EXPECT_EQ(known.cell, computed.cell);
+				EXPECT_EQ(known.origin, computed.origin);
+				EXPECT_EQ(known.partLabel, computed.partLabel);
+				EXPECT_EQ(known.nodeArea, computed.nodeArea);
+				EXPECT_EQ(known.nodeRadius, computed.nodeRadius);
+				EXPECT_EQ(known.nodeMean, computed.nodeMean);
+				EXPECT_EQ(built.label, computed.label); // (the same superfaces)
+			}
+			parts[size_t(level) - 1] = computed;
+		}
+	}
+	EXPECT_GE(answered, 4u); // (the grid cube, every level)
+	EXPECT_GT(refused, 0u);
+
+	// two adjacent superfaces in cells that neither are siblings nor touch: only their nodes
+	// decide (the same mean normal: mergeAcrossCells would try them; 90 degrees apart: not)
+	detail::Partition two;
+	two.level = 2;
+	two.label = {0, 1};
+	two.cell = {packCell(Cell{0, 0, 0}), packCell(Cell{0, 4, 4})};
+	two.origin = {2, 2};
+	two.nodeArea = {1.0, 1.0};
+	two.nodeRadius = {0.0, 0.0};
+	two.nodeMean = {Vec3(1, 0, 0), Vec3(1, 0, 0)};
+	const std::vector<std::pair<int32_t, int32_t>> touching = {{0, 1}};
+	detail::Partition out;
+	EXPECT_FALSE(detail::sameCoarserPartition(two, touching, levelBoundDeg(1), out));
+	EXPECT_TRUE(detail::sameCoarserPartition(two, touching, -1.0, out)); // (no merges across)
+	EXPECT_EQ(out.cell, (std::vector<CellKey>{packCell(Cell{0, 0, 0}), packCell(Cell{0, 1, 1})}));
+	two.nodeMean[1] = Vec3(0, 1, 0);
+	EXPECT_TRUE(detail::sameCoarserPartition(two, touching, levelBoundDeg(1), out));
+	two.cell = {packCell(Cell{0, 2, 2}), packCell(Cell{0, 3, 3})}; // (cells that touch, other
+	EXPECT_FALSE(detail::sameCoarserPartition(two, touching, levelBoundDeg(1), out)); // parents)
+	two.cell = {packCell(Cell{0, 0, 0}), packCell(Cell{0, 2, 2})}; // (siblings, apart)
+	EXPECT_FALSE(detail::sameCoarserPartition(two, touching, levelBoundDeg(1), out));
+}

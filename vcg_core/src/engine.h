@@ -366,6 +366,12 @@ struct Partition {
 	std::vector<int32_t> partLabel;
 	std::vector<CellKey> partCell;
 	std::vector<int8_t> partOrigin;
+	/// Per superface, when mergeAcrossCells merged none of them (else empty): the area, the unit
+	/// area-weighted mean normal and the angle of the cone around it that holds the normals, as
+	/// it measured them from the faces (a partition with the same superfaces has the same; see
+	/// sameCoarserPartition).
+	std::vector<double> nodeArea, nodeRadius;
+	std::vector<Vec3> nodeMean;
 	size_t count() const { return cell.size(); }
 };
 
@@ -411,6 +417,22 @@ void coarserPartition(const Topology &topo, const Partition &fine, Partition &ou
 /// union keeps the cell of its largest part and gets origin mergedOrigin(p.level); the partition
 /// before the merge is kept in p.part* for its fallback.
 void mergeAcrossCells(const Topology &topo, double boundDeg, Partition &p);
+
+/// Pairs of superfaces whose triangles (3 vertex indices each, superface[k] the superface of
+/// triangle k) share an edge, either way round: for sameCoarserPartition, from a level's mesh.
+std::vector<std::pair<int32_t, int32_t>> superfacePairs(const std::vector<int32_t> &triangles,
+                                                        const std::vector<int32_t> &superface);
+
+/// Beyond the paper (DESIGN 38): the partition of level fine.level - 1, computed from what the
+/// finer level knows instead of its faces, when it is certainly `fine`'s superfaces as they are
+/// (then true, and `out` is what coarserPartition and mergeAcrossCells(boundDeg; < 0: not
+/// called) would give). `adjacent`: pairs of superfaces of `fine`, among them every pair
+/// sharing a 2-manifold edge (more pairs only make it refuse more). False: nothing known; `out`
+/// untouched. It needs `fine`'s nodes (mergeAcrossCells) if boundDeg >= 0, and refuses where
+/// coarserPartition could group two adjacent superfaces (siblings, or cells that touch) or
+/// mergeAcrossCells could try a pair.
+bool sameCoarserPartition(const Partition &fine, const std::vector<std::pair<int32_t, int32_t>> &adjacent,
+                          double boundDeg, Partition &out);
 
 /// 2.2.2-2.4 for one level: borders, straightening, vicinity merging, re-triangulation; splits
 /// superfaces that cannot be re-triangulated validly into their finer children (`finer[k]` is the

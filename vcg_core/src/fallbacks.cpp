@@ -279,6 +279,7 @@ void applyFallbacks(const Topology &t, const std::vector<Partition> &finer,
                     FallbackArrays &spare)
 {
 	// `faces` is that of the round that just failed: labels have not changed yet
+	p.nodeArea.clear(), p.nodeRadius.clear(), p.nodeMean.clear(); // (splits change superfaces)
 	spare.split.assign(p.count(), 0);
 	fb.relabeled.clear(), fb.failedFace.clear(), fb.lockedNow.clear(), fb.retightened.clear();
 	chooseFallbacks(t, faces, failed, b, fb, spare.split);

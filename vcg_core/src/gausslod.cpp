@@ -4,6 +4,7 @@
 #include "engine.h"
 #include "level_passes.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -427,7 +428,13 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			const auto tl = std::chrono::steady_clock::now();
 			if (!report(0.05 + 0.95 * double(finest - level) / params.maxLevel, "building level"))
 				return false;
-			if (level < finest) {
+			// (DESIGN 38: the finer level carried whole tells which superfaces touch; if none
+			// of them could be grouped or merged here, the partition is the finer one's)
+			if (level < finest &&
+			    !(byAngle && carry.whole &&
+			      sameCoarserPartition(parts[size_t(level) + 1], superfacePairs(finer.triangles, finer.superface),
+			                           across ? acrossLimit(level) : -1.0,
+			                           parts[size_t(level)]))) {
 				coarserPartition(topo, parts[size_t(level) + 1], parts[size_t(level)],
 				                 int8_t(level));
 				if (across)

@@ -210,13 +210,114 @@ void coarserPartition(const Topology &t, const Partition &fine, Partition &out, 
 	relabelCanonical(fine, group, out);
 }
 
+namespace {
+
+double acrossHalfAngle(double boundDeg) { return 0.5 * boundDeg * 3.14159265358979323846 / 180.0; }
+
+// mergeAcrossCells' tests on the nodes: may a superface (cell, mean normal, cone radius) join a
+// union at all; may two adjacent ones be tried (their cones fit in one of half-angle `limit`;
+// d = the dot product of their means)?
+bool acrossMergeable(CellKey cell, const Vec3 &mean, double radius, double limit)
+{
+	return cell != kInvalidCell && mean.Norm() > 0 && radius <= 2 * limit;
+}
+bool acrossPair(const Vec3 &ma, double ra, const Vec3 &mb, double rb, double limit,
+                double cos2Limit, double &d)
+{
+	const double used = ra + rb;
+	if (used > 2 * limit)
+		return false;
+	d = ma.dot(mb);
+	return d >= (used > 0 ? std::cos(2 * limit - used) : cos2Limit) - 1e-15;
+}
+
+} // namespace
+
+std::vector<std::pair<int32_t, int32_t>> superfacePairs(const std::vector<int32_t> &triangles,
+                                                        const std::vector<int32_t> &superface)
+{
+	struct Edge {
+		int32_t a, b, sf;
+		bool operator<(const Edge &o) const
+		{
+			return a != o.a ? a < o.a : b != o.b ? b < o.b : sf < o.sf;
+		}
+	};
+	std::vector<Edge> edges;
+	edges.reserve(triangles.size());
+	for (size_t k = 0; k < superface.size(); ++k)
+		for (size_t c = 0; c < 3; ++c) {
+			const int32_t a = triangles[3 * k + c], b = triangles[3 * k + (c + 1) % 3];
+			edges.push_back(Edge{std::min(a, b), std::max(a, b), superface[k]});
+		}
+	std::sort(edges.begin(), edges.end());
+	std::vector<std::pair<int32_t, int32_t>> pairs;
+	for (size_t i = 0; i < edges.size();) {
+		size_t j = i + 1;
+		while (j < edges.size() && edges[j].a == edges[i].a && edges[j].b == edges[i].b)
+			++j;
+		for (size_t x = i; x < j; ++x)
+			for (size_t y = x + 1; y < j; ++y)
+				if (edges[x].sf != edges[y].sf)
+					pairs.emplace_back(edges[x].sf, edges[y].sf);
+		i = j;
+	}
+	return pairs;
+}
+
+bool sameCoarserPartition(const Partition &fine, const std::vector<std::pair<int32_t, int32_t>> &adjacent,
+                          double boundDeg, Partition &out)
+{
+	const size_t n = fine.count();
+	if (fine.level < 1 || !fine.partLabel.empty() ||
+	    (boundDeg >= 0 && n >= 2 && fine.nodeMean.size() != n))
+		return false;
+	for (const CellKey c : fine.cell)
+		if (c == kInvalidCell)
+			return false;
+	const double limit = acrossHalfAngle(boundDeg), cos2Limit = std::cos(2 * limit);
+	for (const auto &pr : adjacent) {
+		const size_t a = size_t(pr.first), b = size_t(pr.second);
+		if (a == b)
+			continue;
+		// coarserPartition: siblings, or cells that are the same or touch, may be grouped
+		const Cell ca = unpackCell(fine.cell[a]), cb = unpackCell(fine.cell[b]);
+		if (parentCell(ca) == parentCell(cb) || ca == cb)
+			return false;
+		Cell nb[8];
+		const int cnt = cellNeighbours(ca, fine.level, nb);
+		if (std::find(nb, nb + cnt, cb) != nb + cnt)
+			return false;
+		// mergeAcrossCells: the pair would be tried
+		double d;
+		if (boundDeg >= 0 && n >= 2 &&
+		    acrossMergeable(fine.cell[a], fine.nodeMean[a], fine.nodeRadius[a], limit) &&
+		    acrossMergeable(fine.cell[b], fine.nodeMean[b], fine.nodeRadius[b], limit) &&
+		    acrossPair(fine.nodeMean[a], fine.nodeRadius[a], fine.nodeMean[b], fine.nodeRadius[b],
+		               limit, cos2Limit, d))
+			return false;
+	}
+	// every superface is its own group, with its parent cell and its own origin (coarserPartition
+	// (3)); no union across cells (nothing kept apart, the same nodes)
+	out.level = fine.level - 1;
+	out.label = fine.label;
+	out.cell.resize(n);
+	for (size_t s = 0; s < n; ++s)
+		out.cell[s] = parentKey(fine.cell[s]);
+	out.origin = fine.origin;
+	out.partLabel.clear(), out.partCell.clear(), out.partOrigin.clear();
+	out.nodeArea = fine.nodeArea, out.nodeRadius = fine.nodeRadius, out.nodeMean = fine.nodeMean;
+	return true;
+}
+
 void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 {
 	p.partLabel.clear(), p.partCell.clear(), p.partOrigin.clear();
+	p.nodeArea.clear(), p.nodeRadius.clear(), p.nodeMean.clear();
 	const size_t n = p.count();
 	if (n < 2)
 		return;
-	const double limit = 0.5 * boundDeg * 3.14159265358979323846 / 180.0; // cone half-angle
+	const double limit = acrossHalfAngle(boundDeg); // cone half-angle
 	auto angle = [](double cosine) { return std::acos(std::max(-1.0, std::min(1.0, cosine))); };
 	// One node per superface for the greedy union below (one cache line each: the loop is bound
 	// by random memory accesses), filled first with the superface's area, area-weighted mean
@@ -264,7 +365,7 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 	};
 	std::vector<uint8_t> mergeable(n);
 	for (size_t s = 0; s < n; ++s)
-		mergeable[s] = p.cell[s] != kInvalidCell && node[s].mean.Norm() > 0 && node[s].radius <= 2 * limit;
+		mergeable[s] = acrossMergeable(p.cell[s], node[s].mean, node[s].radius, limit);
 	const double cos2Limit = std::cos(2 * limit);
 	std::vector<Pair> pairs;
 	for (size_t h = 0; h < t.twin.size(); ++h) {
@@ -274,16 +375,22 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 		const int32_t s = p.label[h / 3], w = p.label[size_t(heFace(tw))];
 		if (s == w || !mergeable[size_t(s)] || !mergeable[size_t(w)])
 			continue;
-		const double used = node[size_t(s)].radius + node[size_t(w)].radius;
-		if (used > 2 * limit)
-			continue;
-		const double d = node[size_t(s)].mean.dot(node[size_t(w)].mean);
-		if (d >= (used > 0 ? std::cos(2 * limit - used) : cos2Limit) - 1e-15)
+		double d;
+		if (acrossPair(node[size_t(s)].mean, node[size_t(s)].radius, node[size_t(w)].mean,
+		               node[size_t(w)].radius, limit, cos2Limit, d))
 			pairs.push_back(Pair{std::min(s, w), std::max(s, w), d});
 	}
 	std::vector<uint8_t>().swap(mergeable);
-	if (pairs.empty())
+	auto keepNodes = [&] { // (no union: the nodes as measured, for sameCoarserPartition)
+		p.nodeArea.resize(n), p.nodeRadius.resize(n), p.nodeMean.resize(n);
+		for (size_t s = 0; s < n; ++s)
+			p.nodeArea[s] = node[s].area, p.nodeRadius[s] = node[s].radius,
+			p.nodeMean[s] = node[s].mean;
+	};
+	if (pairs.empty()) {
+		keepNodes();
 		return;
+	}
 	// closest mean normals first (stable counting sort on the quantized angle)
 	const double span = 1.0 - std::cos(2 * limit) + 1e-12;
 	constexpr size_t kBuckets = 16; // (few: pairs keep their memory order inside a bucket)
@@ -338,8 +445,10 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 	bool any = false;
 	for (size_t s = 0; s < n && !any; ++s)
 		any = node[s].members > 1 && find(int32_t(s)) == int32_t(s);
-	if (!any)
+	if (!any) {
+		keepNodes();
 		return;
+	}
 	p.partLabel = p.label, p.partCell = p.cell, p.partOrigin = p.origin;
 	std::vector<int32_t> root(n); // (a union's root is its lowest superface)
 	for (size_t s = 0; s < n; ++s) {
