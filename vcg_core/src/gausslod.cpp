@@ -160,7 +160,7 @@ bool prepare(const MeshView &input, const Params &params, Result &res, MeshView 
 constexpr double kMinLevelSaving = 0.01;
 
 // Would a superface be held to more under limits a than under b (a smaller straightening or
-// distance tolerance, or normal limit)?
+// distance tolerance, normal limit or merge distance)?
 bool tighter(const detail::LevelLimits &a, const detail::LevelLimits &b)
 {
 	return a.tolerance < b.tolerance || a.maxDistance < b.maxDistance ||
@@ -432,9 +432,9 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			// of them could be grouped or merged here, the partition is the finer one's)
 			if (level < finest &&
 			    !(byAngle && carry.whole &&
-			      sameCoarserPartition(parts[size_t(level) + 1], superfacePairs(finer.triangles, finer.superface),
-			                           across ? acrossLimit(level) : -1.0,
-			                           parts[size_t(level)]))) {
+			      sameCoarserPartition(parts[size_t(level) + 1],
+			                           superfacePairs(finer.triangles, finer.superface),
+			                           across ? acrossLimit(level) : -1.0, parts[size_t(level)]))) {
 				coarserPartition(topo, parts[size_t(level) + 1], parts[size_t(level)],
 				                 int8_t(level));
 				if (across)
@@ -451,6 +451,11 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			    parts[size_t(level)].label == parts[size_t(level) + 1].label &&
 			    !tighter(levelLimits(params, topo.diagonal, level, topo.UV != nullptr),
 			             levelLimits(params, topo.diagonal, level + 1, topo.UV != nullptr));
+			const bool share = level < finest && tolerance > 0 && !sameAsFiner;
+			if (share)
+				triangleShare(byFaces ? levelPart : parts[size_t(level) + 1], finer, finerCost);
+			const size_t faceLimit = level < finest ? finer.stats.faces : SIZE_MAX;
+			const size_t target = byFaces ? faceTarget(params, level, mesh.faceCount) : 0;
 			if (sameAsFiner) {
 				takeFinerMesh(mesh, parts[size_t(level)].label, finer, finerPlaced, lm);
 				lm.stats.level = level;
@@ -460,16 +465,8 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 				lm.stats.tolerance = tolerance;
 				lm.stats.secondsBorders = lm.stats.secondsTriangulation = 0;
 				lm.stats.secondsChecks = lm.stats.secondsPlacement = 0;
-				nextCarry = std::move(carry);
+				nextCarry = std::move(carry); // (swapped back below: the same superfaces)
 				nextCarry.label = &parts[size_t(level)].label;
-			}
-			const bool share = level < finest && tolerance > 0 && !sameAsFiner;
-			if (share)
-				triangleShare(byFaces ? levelPart : parts[size_t(level) + 1], finer, finerCost);
-			const size_t faceLimit = level < finest ? finer.stats.faces : SIZE_MAX;
-			const size_t target = byFaces ? faceTarget(params, level, mesh.faceCount) : 0;
-			if (sameAsFiner) {
-				// (built above)
 			} else if (byFaces) {
 				buildToFaceTarget(topo, params, parts, level, target, faceLimit,
 				                  share ? &finerCost : nullptr, lm, merged);
