@@ -286,10 +286,10 @@ static bool forFaceBuckets(const Topology &t, size_t f, Fn fn)
 	return true;
 }
 
-// Cells about twice the median face extent; a face that would span more than kFaceGridBigCells cells is
-// kept in a separate list that every query scans (a few huge faces among many tiny ones must
-// neither be walked cell by cell nor make the cells huge); cells grow while that list or the
-// listing grows too long.
+// Cells about twice the median face extent; a face that would span more than kFaceGridBigCells
+// cells is kept in a separate list that every query scans (a few huge faces among many tiny ones
+// must neither be walked cell by cell nor make the cells huge); cells grow while that list or the
+// listing grows too long. The buckets' cones are left to buildFaceGridCones.
 void buildFaceGridLists(Topology &t)
 {
 	FaceGrid &g = t.grid;
@@ -371,6 +371,9 @@ void buildFaceGridCones(Topology &t, std::atomic<size_t> &next, std::vector<uint
 	FaceGrid &g = t.grid;
 	if (g.start.size() < 2)
 		return;
+	// each bucket's normal cone: the mean normal, rounded to int8 (the bound is measured from
+	// the rounded axis), and s / 254 >= sin of the widest angle from it, rounded up with a
+	// margin of one step (far above the rounding of the dot products that use it)
 	std::vector<Vec3> normal; // of a bucket's faces (each computed once: see FaceMeasure)
 	auto cone = [&](size_t c) {
 		Vec3 sum(0, 0, 0);
