@@ -327,6 +327,25 @@ FlatMesh flatAnnulus(int n, int rings)
 // DESIGN 31: a superface of a coarser level with the same faces and the same kept outline as a
 // superface the finer level re-triangulated exactly takes that superface's triangles and measures
 // (ExactCarry): the coarser level must be the one every superface re-triangulated gives.
+namespace {
+
+// The same mesh and the same measured figures (two builds that must agree).
+void expectSameLevel(const LevelMesh &a, const LevelMesh &b)
+{
+	EXPECT_EQ(a.triangles, b.triangles);
+	EXPECT_EQ(a.positions, b.positions);
+	EXPECT_EQ(a.superface, b.superface);
+	EXPECT_EQ(a.borderEdges, b.borderEdges);
+	EXPECT_EQ(a.inputSuperface, b.inputSuperface);
+	EXPECT_EQ(a.stats.retriangulated, b.stats.retriangulated);
+	EXPECT_EQ(a.stats.maxNormalDevDeg, b.stats.maxNormalDevDeg);
+	EXPECT_EQ(a.stats.meanNormalDevDeg, b.stats.meanNormalDevDeg);
+	EXPECT_EQ(a.stats.unmeasuredFaces, b.stats.unmeasuredFaces);
+	EXPECT_EQ(a.stats.distanceBound, b.stats.distanceBound);
+}
+
+} // namespace
+
 TEST(Levels, exact_superfaces_carried_to_the_coarser_level_give_the_same_level)
 {
 	// The annulus's inner circle (110 segments) is 0.029 % of the diagonal from the chord past
@@ -367,16 +386,7 @@ TEST(Levels, exact_superfaces_carried_to_the_coarser_level_give_the_same_level)
 		detail::buildLevelGeometry(t, prm, parts, pWithout, without, fine.stats.faces, &cost);
 		EXPECT_EQ(with.stats.carriedSuperfaces > 0, model.second) << with.stats.carriedSuperfaces;
 		EXPECT_EQ(without.stats.carriedSuperfaces, 0u);
-		EXPECT_EQ(with.triangles, without.triangles);
-		EXPECT_EQ(with.positions, without.positions);
-		EXPECT_EQ(with.superface, without.superface);
-		EXPECT_EQ(with.borderEdges, without.borderEdges);
-		EXPECT_EQ(with.inputSuperface, without.inputSuperface);
-		EXPECT_EQ(with.stats.retriangulated, without.stats.retriangulated);
-		EXPECT_EQ(with.stats.maxNormalDevDeg, without.stats.maxNormalDevDeg);
-		EXPECT_EQ(with.stats.meanNormalDevDeg, without.stats.meanNormalDevDeg);
-		EXPECT_EQ(with.stats.unmeasuredFaces, without.stats.unmeasuredFaces);
-		EXPECT_EQ(with.stats.distanceBound, without.stats.distanceBound);
+		expectSameLevel(with, without);
 		EXPECT_EQ(with.stats.placedVertices, without.stats.placedVertices);
 	}
 }
@@ -426,20 +436,11 @@ TEST(Levels, a_level_whose_finer_level_is_carried_whole_is_that_level_as_built)
 			const LevelMesh &got = r.levels[size_t(finest - level)];
 			if (got.stats.reusedFiner) // (replaced by the finer level: this chain stops here)
 				break;
-			EXPECT_EQ(got.triangles, lm.triangles);
-			EXPECT_EQ(got.positions, lm.positions);
-			EXPECT_EQ(got.superface, lm.superface);
-			EXPECT_EQ(got.borderEdges, lm.borderEdges);
-			EXPECT_EQ(got.inputSuperface, lm.inputSuperface);
+			expectSameLevel(got, lm);
 			EXPECT_EQ(got.sourceVertex, lm.sourceVertex);
 			EXPECT_EQ(got.stats.superfaces, lm.stats.superfaces);
-			EXPECT_EQ(got.stats.retriangulated, lm.stats.retriangulated);
 			EXPECT_EQ(got.stats.carriedSuperfaces, lm.stats.carriedSuperfaces);
 			EXPECT_EQ(got.stats.rounds, lm.stats.rounds);
-			EXPECT_EQ(got.stats.maxNormalDevDeg, lm.stats.maxNormalDevDeg);
-			EXPECT_EQ(got.stats.meanNormalDevDeg, lm.stats.meanNormalDevDeg);
-			EXPECT_EQ(got.stats.unmeasuredFaces, lm.stats.unmeasuredFaces);
-			EXPECT_EQ(got.stats.distanceBound, lm.stats.distanceBound);
 			EXPECT_EQ(got.stats.boundDeg, lm.stats.boundDeg);
 			EXPECT_EQ(got.stats.level, lm.stats.level);
 			// (no borders traced: the level took no time there)
