@@ -190,6 +190,9 @@ bool triangleFrames(const TriangulationInput &in, const ChunkOut &o, size_t firs
 // Scratch::sfNormal, and its deviations written as they are measured (24 bytes per face per
 // thread).
 constexpr int32_t kMaxCachedNormals = 1 << 18;
+// jobFromTriangles takes the previous query's triangle for a query whose smallest barycentric
+// coordinate in it is above this (far from rounding: no other triangle can claim the query).
+constexpr double kHintMargin = 1e-9;
 
 // The normal of the face at position i of superface s (Topology::faceNormal, the same bits).
 inline Vec3 sfFaceNormal(const TriangulationInput &in, int32_t s, int32_t i, const Scratch &w)
@@ -607,10 +610,30 @@ bool jobFromTriangles(const TriangulationInput &in, int32_t s, const int32_t *tr
 		w.triArea.resize(ntri); // (twice each triangle's signed area, once)
 		for (size_t k = 0; k < ntri; ++k)
 			w.triArea[k] = orient2(&w.boundXY[6 * k], &w.boundXY[6 * k + 2], &w.boundXY[6 * k + 4]);
+		// Consecutive queries (a face's centroid, the faces of a superface in order) mostly fall
+		// in the same triangle: the last triangle found is tried first, and taken if the query is
+		// inside it by more than kHintMargin of its barycentric coordinates. Where the triangles
+		// all have one orientation they overlap nowhere but in a fold of the projection, and no
+		// other triangle holds such a query by the predicates below: the scan would find the same.
+		bool oneSide = true;
+		for (size_t k = 0; k < ntri && oneSide; ++k)
+			oneSide = w.triArea[0] > 0 ? w.triArea[k] > 0 : w.triArea[k] < 0;
+		int32_t hint = -1;
 		const size_t nq = w.job.queryXY.size() / 2;
 		w.job.queryTri.assign(nq, -1);
 		for (size_t q = 0; q < nq; ++q) {
 			const double *p = &w.job.queryXY[2 * q];
+			if (hint >= 0) {
+				const double *a = &w.boundXY[6 * size_t(hint)], *b = a + 2, *d = a + 4;
+				const double area = w.triArea[size_t(hint)];
+				const double o0 = orient2(b, d, p), o1 = orient2(d, a, p), o2 = orient2(a, b, p);
+				// (the smallest barycentric coordinate: orientation / area, of either sign)
+				const double lo = area > 0 ? std::min({o0, o1, o2}) : std::max({o0, o1, o2});
+				if (lo / area > kHintMargin) {
+					w.job.queryTri[q] = hint;
+					continue;
+				}
+			}
 			const size_t c =
 			    size_t(grid.at(p[1], 1)) * size_t(grid.side) + size_t(grid.at(p[0], 0));
 			double best = -HUGE_VAL;
@@ -626,6 +649,8 @@ bool jobFromTriangles(const TriangulationInput &in, int32_t s, const int32_t *tr
 				const double lo = std::min({orient2(b, d, p), orient2(d, a, p), orient2(a, b, p)});
 				if (area > 0 ? lo >= 0 : lo <= 0) {
 					w.job.queryTri[q] = int32_t(k);
+					if (oneSide)
+						hint = int32_t(k);
 					break;
 				}
 				const double m = lo / area;
