@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <chrono>
 #include <thread>
 #include <cmath>
@@ -486,7 +485,7 @@ TEST(FaceGrid, a_bucket_cone_says_all_faces_face_a_direction_only_when_they_do)
 		size_t skipped = 0, checked = 0;
 		for (const Vec3 &d : dirs)
 			for (size_t c = 0; c + 1 < g.start.size(); ++c) {
-				if (g.start[c] == g.start[c + 1] || !detail::FaceGrid::allFacing(g.cone[c], d))
+				if (g.start[c] == g.start[c + 1] || !detail::FaceGrid::allFacing(g.coneOf(c, t.faceNormal), d))
 					continue;
 				++skipped;
 				for (int32_t i = g.start[c]; i < g.start[c + 1]; ++i, ++checked)
@@ -573,40 +572,38 @@ TEST(LevelGeometry, a_level_whose_chain_ends_need_more_faces_than_its_limit_buil
 	EXPECT_EQ(cut.stats.retriangulated, 0u);
 }
 
-TEST(FaceGrid, cones_shared_by_two_threads_are_the_cones_one_thread_computes)
+TEST(FaceGrid, cones_computed_when_asked_by_two_threads_are_the_cones_one_thread_computes)
 {
-	// buildLevels lets the partition's thread join the grid's cones once it is done: every
-	// bucket's cone must be computed (once) and be what one thread gives. fandisk_large (31,682
-	// faces: two chunks of faces), a noisy grid cube (172,800: eleven) and the cow, with the
-	// threads started at once and with one of them late (it finds most chunks taken).
+	// A bucket's cone is computed by the first flip check that asks for it, from whichever
+	// thread: two threads asking for every bucket at once (one from each end, and the same
+	// order) must leave the cones one thread computes, and computed cones are never the "not
+	// computed" 0. fandisk_large, a noisy grid cube (buckets at edges: faces 90 degrees apart)
+	// and the cow.
 	for (const char *name : {"fandisk_large.off", "noisy cube", "cow.off"}) {
 		SCOPED_TRACE(name);
 		const FlatMesh m = std::string(name) == "noisy cube" ? gridCube(120, 1.0, 1e-3, 5) : loadOff(name);
 		detail::Topology one;
 		detail::buildTopology(m.view(), 30.0, one);
-		ASSERT_GT(one.grid.cone.size(), 1000u);
-		for (int late = 0; late < 2; ++late) {
+		const size_t buckets = one.grid.cone.size();
+		ASSERT_GT(buckets, 1000u);
+		EXPECT_EQ(size_t(std::count(one.grid.cone.begin(), one.grid.cone.end(), 0u)), buckets);
+		for (size_t c = 0; c < buckets; ++c)
+			ASSERT_NE(one.grid.coneOf(c, one.faceNormal), 0u);
+		for (int reversed = 0; reversed < 2; ++reversed) {
 			detail::Topology two;
-			detail::buildTopology(m.view(), 30.0, two, 2, false);
-			detail::buildFaceGridLists(two);
-			ASSERT_EQ(two.grid.cone.size(), one.grid.cone.size());
-			std::atomic<size_t> next(0);
-			std::vector<uint8_t> taken(two.grid.cone.size(), 0);
-			std::thread other([&] {
-				if (late)
-					std::this_thread::sleep_for(std::chrono::milliseconds(5));
-				detail::buildFaceGridCones(two, next, taken);
-			});
-			detail::buildFaceGridCones(two, next, taken);
-			other.join();
-			EXPECT_EQ(two.grid.cone, one.grid.cone);
+			detail::buildTopology(m.view(), 30.0, two, 2);
+			ASSERT_EQ(two.grid.cone.size(), buckets);
 			EXPECT_EQ(two.grid.start, one.grid.start);
 			EXPECT_EQ(two.grid.face, one.grid.face);
 			EXPECT_EQ(two.grid.big, one.grid.big);
-			size_t nonEmpty = 0;
-			for (size_t c = 0; c + 1 < two.grid.start.size(); ++c)
-				nonEmpty += two.grid.start[c] < two.grid.start[c + 1];
-			EXPECT_EQ(size_t(std::count(taken.begin(), taken.end(), uint8_t(1))), nonEmpty);
+			std::thread other([&] {
+				for (size_t i = 0; i < buckets; ++i)
+					two.grid.coneOf(reversed ? buckets - 1 - i : i, two.faceNormal);
+			});
+			for (size_t c = 0; c < buckets; ++c)
+				two.grid.coneOf(c, two.faceNormal);
+			other.join();
+			EXPECT_EQ(two.grid.cone, one.grid.cone);
 		}
 	}
 }

@@ -149,9 +149,10 @@ struct FaceGrid {
 	std::vector<int32_t> start, face; ///< bucket -> faces (CSR)
 	std::vector<int32_t> big;         ///< faces too large to list per cell: every query sees them
 	/// Per bucket, a cone around its faces' normals: an axis a (int8 x, y, z in bits 0-23) and a
-	/// bound s (bits 24-31, /254) such that every face normal n listed in the bucket has
-	/// n . t >= 0 for any unit t with (a / |a|) . t >= s / 254 (s = 255: no such t).
-	std::vector<uint32_t> cone;
+	/// bound s (bits 24-31, /254, s >= 1) such that every face normal n listed in the bucket has
+	/// n . t >= 0 for any unit t with (a / |a|) . t >= s / 254 (s = 255: no such t); 0 until
+	/// coneOf computes it (the first query that meets the bucket: on most meshes few are met).
+	mutable std::vector<uint32_t> cone;
 
 	static uint64_t bucketOf(int64_t x, int64_t y, int64_t z, uint64_t mask)
 	{
@@ -166,13 +167,22 @@ struct FaceGrid {
 	template <class Fn>
 	void forBox(const Vec3 &a, const Vec3 &b, Fn fn) const
 	{
-		forBoxFacingAway(a, b, nullptr, fn);
+		forBuckets(a, b, [](uint64_t) { return false; }, fn);
 	}
 
 	/// forBox, but with a unit direction `t`: only the buckets that may hold a face whose normal
-	/// n has n . t < 0 (by their cone) are listed (the big faces all are).
-	template <class Fn>
-	void forBoxFacingAway(const Vec3 &a, const Vec3 &b, const Vec3 *t, Fn fn) const
+	/// n has n . t < 0 (by their cone, coneOf with `normals`: Topology::faceNormal) are listed
+	/// (the big faces all are).
+	template <class Normals, class Fn>
+	void forBoxFacingAway(const Vec3 &a, const Vec3 &b, const Vec3 &t, const Normals &normals,
+	                      Fn fn) const
+	{
+		forBuckets(a, b, [&](uint64_t c) { return allFacing(coneOf(c, normals), t); }, fn);
+	}
+
+	/// forBox, skipping the buckets c with skip(c).
+	template <class Skip, class Fn>
+	void forBuckets(const Vec3 &a, const Vec3 &b, Skip skip, Fn fn) const
 	{
 		for (const int32_t f : big)
 			fn(f);
@@ -184,11 +194,47 @@ struct FaceGrid {
 			for (int64_t y = y0; y <= y1; ++y)
 				for (int64_t x = x0; x <= x1; ++x) {
 					const uint64_t c = bucketOf(x, y, z, mask);
-					if (t && allFacing(cone[c], *t))
+					if (skip(c))
 						continue;
 					for (int32_t i = start[c]; i < start[c + 1]; ++i)
 						fn(face[size_t(i)]);
 				}
+	}
+
+	/// Bucket c's cone (see `cone`), computed from `normals` (Topology::faceNormal) the first time
+	/// it is asked. Any number of threads may ask at once: a cone depends only on the bucket's
+	/// faces, so two threads that compute the same one store the same bits. The axis: the mean
+	/// normal, rounded to int8 (the bound is measured from the rounded axis); s / 254 >= sine of
+	/// the widest angle from it, rounded up with a margin of one step (far above the rounding of
+	/// the dot products that use it).
+	template <class Normals>
+	uint32_t coneOf(uint64_t c, const Normals &normals) const
+	{
+		const uint32_t known = __atomic_load_n(&cone[c], __ATOMIC_RELAXED);
+		if (known != 0)
+			return known;
+		Vec3 sum(0, 0, 0);
+		for (int32_t i = start[c]; i < start[c + 1]; ++i)
+			sum += normals[size_t(face[size_t(i)])];
+		const double len = sum.Norm();
+		uint32_t packed = packCone(0, 0, 0, 255);
+		if (len > 0) {
+			int q[3];
+			for (int k = 0; k < 3; ++k)
+				q[k] = int(std::lround(127.0 * sum[k] / len));
+			const Vec3 axis = Vec3(q[0], q[1], q[2]).Normalize();
+			double minCos = 1;
+			for (int32_t i = start[c]; i < start[c + 1]; ++i) // (the same normals, the same bits)
+				minCos = std::min(minCos, normals[size_t(face[size_t(i)])].dot(axis));
+			int s = 255;
+			if (minCos > 0) {
+				const double sine = std::sqrt(std::max(0.0, 1.0 - minCos * minCos));
+				s = std::min(255, int(std::ceil(sine * 254.0)) + 1);
+			}
+			packed = packCone(q[0], q[1], q[2], s);
+		}
+		__atomic_store_n(&cone[c], packed, __ATOMIC_RELAXED);
+		return packed;
 	}
 
 	static uint32_t packCone(int ax, int ay, int az, int s)
@@ -388,14 +434,9 @@ size_t weldVertices(const MeshView &mesh, double distance, std::vector<int32_t> 
 /// on another thread while the partition is built).
 void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &topo, size_t threads = 1,
                    bool withGrid = true);
-/// topo.grid over the valid faces (see FaceGrid); needs the faces' validity.
+/// topo.grid over the valid faces (see FaceGrid; the buckets' cones are left to its coneOf);
+/// needs the faces' validity.
 void buildFaceGrid(Topology &topo);
-/// buildFaceGrid in two steps, for more than one thread: the lists (serial), then the buckets'
-/// cones, which any number of threads may compute at once, sharing `next` (0) and `taken` (a
-/// zero per bucket, topo.grid.cone.size()): each takes chunks of faces from `next` and computes
-/// the cone of every bucket it is the first to meet (a bucket's cone does not depend on who).
-void buildFaceGridLists(Topology &topo);
-void buildFaceGridCones(Topology &topo, std::atomic<size_t> &next, std::vector<uint8_t> &taken);
 
 /// A lower bound on the faces of any level whose kept vertices include those flagged in `kept`
 /// (per vertex, nonzero), by Euler's formula: a level of a clean surface (Topology::euler) is a

@@ -5,12 +5,9 @@
 #include "level_passes.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <cmath>
 #include <exception>
-#include <mutex>
 #include <new>
 
 namespace gausslod {
@@ -372,45 +369,16 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 		};
 		std::vector<Partition> parts(size_t(params.maxLevel));
 		// the face grid (for the levels' flip checks) is built while the finest partition is
-		// (both serial; the grid only writes topo.grid); its cones are shared out once the
-		// partition is done (they took half the grid's time: it set the set-up's length)
+		// (both serial; the grid only writes topo.grid; its buckets' cones are computed when a
+		// check first asks for them: on most meshes few are)
 		const size_t tasks = threads > 1 ? 2 : 1;
-		std::atomic<size_t> nextCones(0);
-		std::vector<uint8_t> taken;
-		std::mutex listing;
-		std::condition_variable listed;
-		int lists = 0; // (1: the lists are built, -1: they failed)
 		onWorkers(tasks, [&](size_t task) {
-			if (task == 1 || tasks == 1) {
-				try {
-					buildFaceGridLists(topo);
-					taken.assign(topo.grid.cone.size(), 0);
-				} catch (...) {
-					{
-						std::lock_guard<std::mutex> lock(listing);
-						lists = -1;
-					}
-					listed.notify_all();
-					throw;
-				}
-				{
-					std::lock_guard<std::mutex> lock(listing);
-					lists = 1;
-				}
-				listed.notify_all();
-				buildFaceGridCones(topo, nextCones, taken);
-			}
+			if (task == 1 || tasks == 1)
+				buildFaceGrid(topo);
 			if (task == 0) {
 				finestPartition(topo, finest, parts[size_t(finest)]);
 				if (across)
 					mergeAcrossCells(topo, acrossLimit(finest), parts[size_t(finest)]);
-				if (tasks > 1) {
-					std::unique_lock<std::mutex> lock(listing);
-					listed.wait(lock, [&] { return lists != 0; });
-					lock.unlock();
-					if (lists > 0)
-						buildFaceGridCones(topo, nextCones, taken);
-				}
 			}
 		});
 		const double setup = since(t0);

@@ -354,7 +354,7 @@ bool nearestSurfaceFacing(const Topology &t, const Scratch &w)
 		// nearest face facing away (normals first: distances only for those)
 		double away = r * r * (1 - 1e-9);
 		bool anyAway = false;
-		t.grid.forBoxFacingAway(c - Vec3(r, r, r), c + Vec3(r, r, r), &n, [&](int32_t g) {
+		t.grid.forBoxFacingAway(c - Vec3(r, r, r), c + Vec3(r, r, r), n, t.faceNormal, [&](int32_t g) {
 			if (facesAway(t, g, n, true)) { // (the grid holds valid faces only)
 				const double d2 = faceDist2(t, c, g);
 				if (d2 < away)

@@ -3,7 +3,6 @@
 #include "engine.h"
 
 #include <algorithm>
-#include <atomic>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -289,8 +288,8 @@ static bool forFaceBuckets(const Topology &t, size_t f, Fn fn)
 // Cells about twice the median face extent; a face that would span more than kFaceGridBigCells
 // cells is kept in a separate list that every query scans (a few huge faces among many tiny ones
 // must neither be walked cell by cell nor make the cells huge); cells grow while that list or the
-// listing grows too long. The buckets' cones are left to buildFaceGridCones.
-void buildFaceGridLists(Topology &t)
+// listing grows too long. The buckets' cones are left to FaceGrid::coneOf.
+void buildFaceGrid(Topology &t)
 {
 	FaceGrid &g = t.grid;
 	g.start.assign(1, 0);
@@ -356,70 +355,7 @@ void buildFaceGridLists(Topology &t)
 				    g.big.push_back(int32_t(f));
 	    },
 	    g.start, g.face);
-	// (a bucket's cone is computed once a face of it is met, see buildFaceGridCones: the empty
-	// ones keep this, what the faces of none give)
-	g.cone.assign(buckets, FaceGrid::packCone(0, 0, 0, 255));
-}
-
-// The cones of the buckets (FaceGrid::cone) met by the faces of the chunks taken from `next`
-// (kConeChunk faces each); several threads may run it at once on the same `next` and `taken`
-// (a flag per bucket, zeroed): each bucket's cone is computed once, by whoever meets it first,
-// and is the same whoever does.
-void buildFaceGridCones(Topology &t, std::atomic<size_t> &next, std::vector<uint8_t> &taken)
-{
-	constexpr size_t kConeChunk = 16384;
-	FaceGrid &g = t.grid;
-	if (g.start.size() < 2)
-		return;
-	// each bucket's normal cone: the mean normal, rounded to int8 (the bound is measured from
-	// the rounded axis), and s / 254 >= sin of the widest angle from it, rounded up with a
-	// margin of one step (far above the rounding of the dot products that use it)
-	std::vector<Vec3> normal; // of a bucket's faces (each computed once: see FaceMeasure)
-	auto cone = [&](size_t c) {
-		Vec3 sum(0, 0, 0);
-		normal.clear();
-		for (int32_t i = g.start[c]; i < g.start[c + 1]; ++i) {
-			normal.push_back(t.faceNormal[size_t(g.face[size_t(i)])]);
-			sum += normal.back();
-		}
-		const double len = sum.Norm();
-		if (!(len > 0)) {
-			g.cone[c] = FaceGrid::packCone(0, 0, 0, 255);
-			return;
-		}
-		int q[3];
-		for (int k = 0; k < 3; ++k)
-			q[k] = int(std::lround(127.0 * sum[k] / len));
-		const Vec3 axis = Vec3(q[0], q[1], q[2]).Normalize();
-		double minCos = 1;
-		for (const Vec3 &n : normal)
-			minCos = std::min(minCos, n.dot(axis));
-		int s = 255;
-		if (minCos > 0) {
-			const double sine = std::sqrt(std::max(0.0, 1.0 - minCos * minCos));
-			s = std::min(255, int(std::ceil(sine * 254.0)) + 1);
-		}
-		g.cone[c] = FaceGrid::packCone(q[0], q[1], q[2], s);
-	};
-	// buckets in the order of their first face, not of their hash: the faces of consecutive
-	// buckets are then near each other in memory (the same cones; measured on the 1M mesh, the
-	// cones took 0.2 s in hash order, most of it waiting for memory)
-	for (size_t c0; (c0 = next.fetch_add(kConeChunk)) < t.nF;)
-		for (size_t f = c0; f < std::min(t.nF, c0 + kConeChunk); ++f)
-			if (t.faceValid[f])
-				forFaceBuckets(t, f, [&](uint64_t c) {
-					if (!__atomic_load_n(&taken[c], __ATOMIC_RELAXED) &&
-					    !__atomic_exchange_n(&taken[c], uint8_t(1), __ATOMIC_RELAXED))
-						cone(size_t(c));
-				});
-}
-
-void buildFaceGrid(Topology &t)
-{
-	buildFaceGridLists(t);
-	std::atomic<size_t> next(0);
-	std::vector<uint8_t> taken(t.grid.cone.size(), 0);
-	buildFaceGridCones(t, next, taken);
+	g.cone.assign(buckets, 0); // (computed when first asked: FaceGrid::coneOf)
 }
 
 // Delimiters (MeshView::faceKey, cornerKey): twin edges whose faces differ in key, or in the
