@@ -5,7 +5,9 @@
 #                                    out/<name>/ and printing the per-level table.
 #   bash cmake/dev.sh test        : set up, build, run the whole test suite (unit, plugin,
 #                                    meshlabserver end-to-end, GUI under Xvfb, then the core and
-#                                    its tests again under AddressSanitizer + UBSan).
+#                                    its tests again under AddressSanitizer + UBSan); both CTest
+#                                    runs use nproc jobs (-j"$jobs"); the tests that must run
+#                                    alone say so (RUN_SERIAL: the GUI test, the package test).
 # Both are idempotent: a second run only rebuilds what changed.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -51,11 +53,11 @@ case "${1:-}" in
     ;;
   test)
     configure_build build
-    ctest --test-dir build --output-on-failure -j1
+    ctest --test-dir build --output-on-failure -j"$jobs"
     echo "== core and its tests under AddressSanitizer + UndefinedBehaviorSanitizer"
     configure_build build-asan -DGAUSSLOD_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-      ctest --test-dir build-asan --output-on-failure -j1
+      ctest --test-dir build-asan --output-on-failure -j"$jobs"
     CXX=clang++ configure_build build-fuzz -DGAUSSLOD_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
     fuzz engine fuzz_gausslod regressions "${GAUSSLOD_FUZZ_SECONDS:-60}"
     fuzz readers fuzz_readers reader_regressions "${GAUSSLOD_FUZZ_READERS_SECONDS:-30}" \
