@@ -612,9 +612,11 @@ bool jobFromTriangles(const TriangulationInput &in, int32_t s, const int32_t *tr
 			w.triArea[k] = orient2(&w.boundXY[6 * k], &w.boundXY[6 * k + 2], &w.boundXY[6 * k + 4]);
 		// Consecutive queries (a face's centroid, the faces of a superface in order) mostly fall
 		// in the same triangle: the last triangle found is tried first, and taken if the query is
-		// inside it by more than kHintMargin of its barycentric coordinates. Where the triangles
-		// all have one orientation they overlap nowhere but in a fold of the projection, and no
-		// other triangle holds such a query by the predicates below: the scan would find the same.
+		// inside it by more than kHintMargin of its barycentric coordinates, and only where the
+		// triangles all have one orientation: they then overlap only where the projection folds
+		// over itself, so elsewhere no other triangle holds such a query by the predicates below
+		// and the scan would find the same one (in a fold, the triangle tried first is taken:
+		// it lies over the query all the same).
 		bool oneSide = true;
 		for (size_t k = 0; k < ntri && oneSide; ++k)
 			oneSide = w.triArea[0] > 0 ? w.triArea[k] > 0 : w.triArea[k] < 0;
