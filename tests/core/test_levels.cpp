@@ -450,3 +450,54 @@ TEST(Levels, a_level_whose_finer_level_is_carried_whole_is_that_level_as_built)
 		EXPECT_EQ(taken > 0, model.second) << taken;
 	}
 }
+
+TEST(Levels, a_level_abandoned_over_its_face_limit_would_have_had_more_faces_than_that)
+{
+	// A coarser level that cannot get below the finer level's face count is abandoned (the finer
+	// level is taken), before triangulating where Euler's bound on its junctions says so, or
+	// (DESIGN 40) in the middle of a round, once that bound counting the border vertices the
+	// fallbacks will lock after the round's failures so far is over the limit. The count it
+	// reports then must be at most what building the level in full gives, and it must be
+	// abandoned exactly when that is over the limit; under the limit it is that level. Swept over
+	// limits on coarse levels with failures that lock borders (fandisk's LOD1 and LOD0: a round
+	// with locks over the limit, and its other rounds' bounds).
+	for (const char *name : {"fandisk.off", "bones.off", "femur.off", "knot.off"}) {
+		SCOPED_TRACE(name);
+		const FlatMesh m = weldedCopy(loadOff(name));
+		const Params prm;
+		detail::Topology t;
+		detail::buildTopology(m.view(), prm.featureAngle, t);
+		const int finest = prm.maxLevel - 1;
+		auto across = [&](int level) { return std::min(levelBoundDeg(level), prm.featureAngle); };
+		std::vector<detail::Partition> parts(size_t(prm.maxLevel));
+		detail::finestPartition(t, finest, parts[size_t(finest)]);
+		detail::mergeAcrossCells(t, across(finest), parts[size_t(finest)]);
+		for (int level = finest - 1; level >= 0; --level) {
+			detail::coarserPartition(t, parts[size_t(level) + 1], parts[size_t(level)],
+			                         int8_t(level));
+			detail::mergeAcrossCells(t, across(level), parts[size_t(level)]);
+		}
+		for (int level = 1; level >= 0; --level) {
+			SCOPED_TRACE(level);
+			detail::Partition p = parts[size_t(level)];
+			LevelMesh full;
+			detail::buildLevelGeometry(t, prm, parts, p, full, SIZE_MAX);
+			const size_t faces = full.stats.faces;
+			ASSERT_GT(faces, 8u);
+			for (size_t limit = faces / 8; limit <= faces; limit += std::max<size_t>(1, faces / 64)) {
+				SCOPED_TRACE(limit);
+				detail::Partition q = parts[size_t(level)];
+				LevelMesh lm;
+				detail::buildLevelGeometry(t, prm, parts, q, lm, limit);
+				EXPECT_LE(lm.stats.faces, faces);
+				EXPECT_EQ(lm.stats.faces > limit, faces > limit);
+				if (lm.stats.faces <= limit)
+					expectSameLevel(lm, full);
+			}
+			detail::Partition q = parts[size_t(level)];
+			LevelMesh at;
+			detail::buildLevelGeometry(t, prm, parts, q, at, faces);
+			expectSameLevel(at, full);
+		}
+	}
+}

@@ -478,8 +478,9 @@ bool sameCoarserPartition(const Partition &fine, const std::vector<std::pair<int
 /// 2.2.2-2.4 for one level: borders, straightening, vicinity merging, re-triangulation; splits
 /// superfaces that cannot be re-triangulated validly into their finer children (`finer[k]` is the
 /// final partition of level k, for k > p.level) and rebuilds until the level is valid.
-/// Stops early, leaving `out` without a mesh and out.stats.faces > faceLimit, once a round's valid
-/// triangles plus the triangles of the failed superfaces' attempts (at least one each) exceed
+/// Stops early, leaving `out` without a mesh and faceLimit < out.stats.faces <= the faces the
+/// full build would have, once Euler's bound on every later round's faces (levelFaceBound, with
+/// the border vertices the fallbacks will lock counted as soon as their superface fails) exceeds
 /// `faceLimit` (the caller then keeps the finer level, which has that many faces).
 /// What splitting a superface back into the finer level's superfaces costs (insertFarthest): per
 /// input face f, the finer level's triangles per face of f's superface there, share[label[f]].

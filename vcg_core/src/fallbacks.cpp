@@ -15,11 +15,35 @@ namespace {
 constexpr uint8_t kSplit = 1, kBisect = 2; // (split flags)
 constexpr int32_t kMinBisect = 4;          // fewer faces: split into the input faces
 
-// Decides each failed superface's fallback: after a deviation failure first its chains are
-// straightened and merged again with a quarter of the tolerances, up to kMaxTolSteps times; else
-// its border is locked (no straightening, no merging); if it still fails, or its projection
-// folds, it is split; a single input face that fails gets its vertices locked (it is then kept as
-// it is). Returns the split flags per superface.
+} // namespace
+
+// After a deviation failure first its chains are straightened and merged again with a quarter of
+// the tolerances, up to kMaxTolSteps times; else its border is locked (no straightening, no
+// merging); if it still fails, or its projection folds, it is split; a single input face that
+// fails gets its vertices locked (it is then kept as it is).
+FallbackKind fallbackFor(const Topology &t, const SuperfaceFaces &faces, int32_t s, Failure why,
+                         const Borders &b, const FallbackState &fb)
+{
+	const int32_t fbeg = faces.begin(s), fend = faces.end(s);
+	bool allLocked = true;
+	for (int32_t i = fbeg; i < fend && allLocked; ++i)
+		for (int k = 0; k < 3; ++k) {
+			const int32_t h = 3 * faces.face[size_t(i)] + k;
+			if (b.border[size_t(h)] && !b.junction[size_t(t.heFrom(h))])
+				allLocked = false;
+		}
+	const int step = fb.tolStep[size_t(faces.face[size_t(fbeg)])];
+	if (fend - fbeg > 1 && why == Failure::Deviation && !allLocked && step < kMaxTolSteps)
+		return FallbackKind::Retighten;
+	if (fend - fbeg == 1 || (why != Failure::Fold && why != Failure::Distance && !allLocked))
+		return FallbackKind::Lock;
+	return FallbackKind::Split;
+}
+
+namespace {
+
+// Applies each failed superface's fallback (fallbackFor) to the fallback state; returns the split
+// flags per superface.
 void chooseFallbacks(const Topology &t, const SuperfaceFaces &faces, const FailedList &failed,
                      const Borders &b, FallbackState &fb, std::vector<uint8_t> &split)
 {
@@ -32,17 +56,10 @@ void chooseFallbacks(const Topology &t, const SuperfaceFaces &faces, const Faile
 	for (const auto &sf : failed) {
 		const int32_t s = sf.first;
 		const int32_t fbeg = faces.begin(s), fend = faces.end(s);
+		const FallbackKind kind = fallbackFor(t, faces, s, sf.second, b, fb);
 		fb.failedFace.push_back(faces.face[size_t(fbeg)]);
-		bool allLocked = true;
-		for (int32_t i = fbeg; i < fend; ++i)
-			for (int k = 0; k < 3; ++k) {
-				const int32_t h = 3 * faces.face[size_t(i)] + k;
-				if (b.border[size_t(h)] && !b.junction[size_t(t.heFrom(h))])
-					allLocked = false;
-			}
-		const int step = fb.tolStep[size_t(faces.face[size_t(fbeg)])];
-		if (fend - fbeg > 1 && sf.second == Failure::Deviation && !allLocked &&
-		    step < kMaxTolSteps) {
+		if (kind == FallbackKind::Retighten) {
+			const int step = fb.tolStep[size_t(faces.face[size_t(fbeg)])];
 			for (int32_t i = fbeg; i < fend; ++i) {
 				const int32_t f = faces.face[size_t(i)];
 				fb.tolStep[size_t(f)] = uint8_t(step + 1);
@@ -50,8 +67,7 @@ void chooseFallbacks(const Topology &t, const SuperfaceFaces &faces, const Faile
 					if (b.border[size_t(3 * f + k)])
 						fb.retightened.push_back(t.heFrom(3 * f + k));
 			}
-		} else if (fend - fbeg == 1 ||
-		           (sf.second != Failure::Fold && sf.second != Failure::Distance && !allLocked)) {
+		} else if (kind == FallbackKind::Lock) {
 			for (int32_t i = fbeg; i < fend; ++i)
 				for (int k = 0; k < 3; ++k) {
 					const int32_t h = 3 * faces.face[size_t(i)] + k;

@@ -55,7 +55,7 @@ void checkEdge(const Topology &t, const LevelTriangles &lt, int32_t v, const Sid
 } // namespace
 
 void checkLevelEdges(const Topology &t, size_t superfaces, const LevelTriangles &lt,
-                     FailedList &failed, size_t &failedTris)
+                     FailedList &failed)
 {
 	// only an edge with both ends on new triangles can be a new problem: those edges, one
 	// record per triangle side, grouped by the smaller vertex, each group then sorted by the
@@ -104,7 +104,7 @@ void checkLevelEdges(const Topology &t, size_t superfaces, const LevelTriangles 
 	}
 	for (size_t s = 0; s < bad.size(); ++s)
 		if (bad[s])
-			failed.emplace_back(int32_t(s), Failure::Ring), ++failedTris;
+			failed.emplace_back(int32_t(s), Failure::Ring);
 }
 
 } // namespace detail

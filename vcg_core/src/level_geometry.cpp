@@ -5,8 +5,10 @@
 #include "level_passes.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <stdexcept>
 
 namespace gausslod {
@@ -160,8 +162,15 @@ private:
 	size_t retriangulated_ = 0;
 	size_t carried_ = 0; ///< superfaces that took the finer level's exact triangles
 	FailedList failed_;
-	size_t failedTris_ = 0; ///< triangles the failed superfaces had made before failing, at
-	                        ///< least 1 each (those the whole-level check failed: 1)
+	// (DESIGN 40) Euler's bound on the faces of every later round, with the border vertices that
+	// the fallbacks will lock after this round's failures so far counted as junctions: once over
+	// faceLimit_, the level is abandoned without triangulating the rest of the round
+	int round_ = 0;
+	std::mutex lockMutex_;
+	std::vector<uint8_t> lockCounted_; ///< per vertex: counted in lockBound_ (this round)
+	std::vector<int32_t> lockCountedList_;
+	size_t lockBound_ = 0;
+	std::atomic<bool> overLimit_{false};
 
 	TriangulationInput triangulationInput() const
 	{
@@ -170,6 +179,7 @@ private:
 	bool buildRound(bool patch);
 	void markDirty(bool patch);
 	void buildSuperface(int32_t s, Scratch &w, ChunkOut &o);
+	void countLockedBorder(int32_t s, Failure why);
 	bool takeExact(int32_t s, Scratch &w, ChunkOut &o);
 	void carryExact();
 	bool appendPatch(size_t rebuilt, size_t live);
@@ -185,6 +195,7 @@ void LevelRounds::run()
 	size_t fallbacks = 0;
 	int round = 0;
 	for (;; ++round) {
+		round_ = round;
 		if (round == kMaxRounds) // give up simplifying: every vertex kept is always valid
 			std::fill(fb_.extraLock.begin(), fb_.extraLock.end(), uint8_t(1));
 		if (!buildRound(round > 0 && round < kMaxRounds)) { // (out_.stats.faces > faceLimit_)
@@ -195,17 +206,9 @@ void LevelRounds::run()
 		firstRound_ = false;
 		if (failed_.empty() || round >= kMaxRounds)
 			break;
-		// Splitting a superface adds faces (its pieces have the split chains on their borders)
-		// and so does a tighter re-simplification or a locked border: a failed superface will
-		// end with at least the triangles its failed attempt made, and a level already over its
-		// limit (the finer level's count) this way is abandoned.
-		const size_t atLeast = liveTris_ + failedTris_;
-		if (atLeast > faceLimit_) {
-			out_.stats.faces = atLeast;
-			out_.stats.rounds = round + 1;
-			out_.stats.secondsChecks += clock_.lap();
-			return;
-		}
+		// (DESIGN 40: a level over its face limit is abandoned only on Euler's bound, which
+		// every later round's faces are above; the triangles a failed superface made are not a
+		// bound on what its fallback makes)
 		fallbacks += failed_.size();
 		keepForReuse();
 		applyFallbacks(t_, finer_, failed_, borders_, chunks_.threads, p_, faces_, fb_, prev_,
@@ -244,7 +247,7 @@ void LevelRounds::markDirty(bool patch)
 // builds nothing).
 bool LevelRounds::buildRound(bool patch)
 {
-	failed_.clear(), failedTris_ = 0;
+	failed_.clear();
 	// (freed, not cleared: they are rebuilt from the chunks, which hold this round's triangles
 	// meanwhile)
 	release(tri_.tris), release(tri_.triSf), release(tri_.triBorder);
@@ -263,6 +266,10 @@ bool LevelRounds::buildRound(bool patch)
 			out_.stats.faces = atLeast;
 			return false;
 		}
+		for (int32_t v : lockCountedList_)
+			lockCounted_[size_t(v)] = 0;
+		lockCountedList_.clear();
+		lockBound_ = atLeast;
 	}
 	markDirty(patch);
 	chunks_.make(faces_, p_.count(), t_.nF);
@@ -275,9 +282,15 @@ bool LevelRounds::buildRound(bool patch)
 	// previous round's arrays when the chunks are concatenated (cache_ then holds its previous
 	// range)
 	chunks_.forEach([&](size_t c, Scratch &w) {
-		for (int32_t sf = chunks_.start[c]; sf < chunks_.start[c + 1]; ++sf)
+		w.discard = &overLimit_;
+		for (int32_t sf = chunks_.start[c];
+		     sf < chunks_.start[c + 1] && !overLimit_.load(std::memory_order_relaxed); ++sf)
 			buildSuperface(sf, w, chunks_.out[c]);
 	});
+	if (overLimit_) { // (whichever superfaces were built: every later round has more faces)
+		out_.stats.faces = lockBound_;
+		return false;
+	}
 	release(rings_.he), release(rings_.start), release(rings_.sfStart);
 	size_t rebuilt = 0;
 	bool failures = false;
@@ -295,7 +308,7 @@ bool LevelRounds::buildRound(bool patch)
 	concatenate(live, failures);
 	out_.stats.secondsTriangulation += clock_.lap();
 	if (failed_.empty())
-		checkLevelEdges(t_, p_.count(), tri_, failed_, failedTris_);
+		checkLevelEdges(t_, p_.count(), tri_, failed_);
 	return true;
 }
 
@@ -326,14 +339,50 @@ void LevelRounds::buildSuperface(int32_t s, Scratch &w, ChunkOut &o)
 		f = rings_.broken[size_t(s)] ? Failure::Fold : retriangulate(in, s, w, o, measures_);
 	}
 	if (f != Failure::None) {
-		o.failedTris += std::max<size_t>(1, o.triBorder.size() - before);
 		o.truncate(before);
 		o.failed.emplace_back(s, f);
+		countLockedBorder(s, f);
 	}
 	c.ok = f == Failure::None;
 	c.retriangulated = o.retriangulated > retriBefore;
 	c.triBegin = int32_t(before);
 	c.triEnd = int32_t(o.triBorder.size());
+}
+
+// Superface s failed (why) this round: if the fallbacks will lock its border, its border vertices
+// that are not junctions yet will be junctions of every later round, and Euler's bound on those
+// rounds' faces grows by 2 for each (1 on the mesh's boundary). Sets overLimit_ once the bound is
+// over faceLimit_: the level will be abandoned (run) whatever the rest of the round gives, so no
+// thread needs to build more of it. (Only the outcome is used, and it is the same for any order
+// of the superfaces: the bound grows monotonically to the same total.)
+void LevelRounds::countLockedBorder(int32_t s, Failure why)
+{
+	if (faceLimit_ == SIZE_MAX || t_.euler == kNoEuler || round_ >= kMaxRounds ||
+	    fallbackFor(t_, faces_, s, why, borders_, fb_) != FallbackKind::Lock)
+		return;
+	std::lock_guard<std::mutex> guard(lockMutex_);
+	if (lockCounted_.empty())
+		lockCounted_.assign(t_.nV, 0);
+	for (int32_t i = faces_.begin(s); i < faces_.end(s); ++i)
+		for (int k = 0; k < 3; ++k) {
+			const int32_t h = 3 * faces_.face[size_t(i)] + k;
+			const int32_t v = t_.heFrom(h);
+			if (!borders_.border[size_t(h)] || borders_.junction[size_t(v)] ||
+			    lockCounted_[size_t(v)])
+				continue;
+			lockCounted_[size_t(v)] = 1;
+			lockCountedList_.push_back(v);
+			bool boundary = false; // (a clean surface: one boundary half-edge leaves it)
+			for (int32_t q = t_.vfStart[size_t(v)]; q < t_.vfStart[size_t(v) + 1]; ++q) {
+				const int32_t g = t_.vfFace[size_t(q)];
+				for (int j = 0; j < 3; ++j)
+					boundary = boundary || (t_.T[3 * size_t(g) + size_t(j)] == v &&
+					                        t_.twin[3 * size_t(g) + size_t(j)] < 0);
+			}
+			lockBound_ += boundary ? 1 : 2;
+		}
+	if (lockBound_ > faceLimit_)
+		overLimit_ = true;
 }
 
 // Beyond the paper (DESIGN 31): superface s takes the triangles and measures of the finer
@@ -475,8 +524,7 @@ bool LevelRounds::appendPatch(size_t rebuilt, size_t live)
 			                      o.triBorder.begin() + cc.triEnd);
 			cc.triEnd = begin + (cc.triEnd - cc.triBegin), cc.triBegin = begin;
 		}
-		failed_.insert(failed_.end(), o.failed.begin(), o.failed.end()),
-		    failedTris_ += o.failedTris;
+		failed_.insert(failed_.end(), o.failed.begin(), o.failed.end());
 		retriangulated_ += o.retriangulated, carried_ += o.carried;
 		o = ChunkOut(); // (frees its memory)
 	}
@@ -510,8 +558,7 @@ void LevelRounds::concatenate(size_t live, bool failures)
 			if (!rebuilt)
 				retriangulated_ += cc.retriangulated;
 		}
-		failed_.insert(failed_.end(), o.failed.begin(), o.failed.end()),
-		    failedTris_ += o.failedTris;
+		failed_.insert(failed_.end(), o.failed.begin(), o.failed.end());
 		retriangulated_ += o.retriangulated, carried_ += o.carried;
 		o = ChunkOut(); // (frees its memory)
 	}

@@ -115,8 +115,7 @@ struct ChunkOut {
 	std::vector<Piece> straight; ///< pieces left straight (see straightenBorders)
 	std::vector<int32_t> ringHE, ringStart, sfRings; ///< traced rings (until concatenated)
 	size_t retriangulated = 0;
-	size_t carried = 0;    ///< superfaces that took the finer level's exact triangles
-	size_t failedTris = 0; ///< triangles the failed superfaces had made (at least 1 each)
+	size_t carried = 0; ///< superfaces that took the finer level's exact triangles
 
 	void emit(int32_t a, int32_t b, int32_t c, uint8_t borderBits, bool isNew)
 	{
@@ -188,6 +187,9 @@ struct Scratch {
 	/// distanceBound's other bound, if smaller (placement.cpp: as accepted, plus the moves), and
 	/// below what it is all the caller needs (then it is the bound, and nothing is computed)
 	double boundCap = HUGE_VAL, boundEnough = 0;
+	/// set once the caller will discard the round (level_geometry.cpp, DESIGN 40): retriangulate
+	/// then tries no further pass of inside vertices (its superface fails as it stands)
+	const std::atomic<bool> *discard = nullptr;
 	bool inserted(int32_t v) const { return !steinerMark.empty() && steinerMark[size_t(v)]; }
 };
 
@@ -460,7 +462,7 @@ struct LevelTriangles {
 /// Fails (Ring) the superfaces of new triangles on an edge used more often than in the input, or
 /// twice in the same direction where the input had it right.
 void checkLevelEdges(const Topology &t, size_t superfaces, const LevelTriangles &lt,
-                     FailedList &failed, size_t &failedTris);
+                     FailedList &failed);
 
 // ---- vertex placement (placement.cpp)
 
@@ -494,6 +496,13 @@ void placeVertices(const PlacementInput &in, Chunks &chunks, Borders &b, Rings &
                    FaceMeasures &m, Placement &out);
 
 // ---- fallback rounds and reuse (fallbacks.cpp)
+
+/// What the fallbacks do with a superface that failed (`why`) this round: straighten its chains
+/// again with tighter tolerances, lock its border vertices (each becomes a junction of the next
+/// round: Euler's bound counts it), or split it.
+enum class FallbackKind : uint8_t { Retighten, Lock, Split };
+FallbackKind fallbackFor(const Topology &t, const SuperfaceFaces &faces, int32_t s, Failure why,
+                         const Borders &b, const FallbackState &fb);
 
 /// Arrays of applyFallbacks kept for the next rounds (fresh ones cost more in page faults).
 struct FallbackArrays {

@@ -778,7 +778,7 @@ Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, Chunk
 		if (flips && f == Failure::Distance && before > 3 &&
 		    retryWithFlips(in, s, N, firstTri, before, uvBefore, w, o, m))
 			return Failure::None;
-		if (!more) {
+		if (!more || (w.discard && w.discard->load(std::memory_order_relaxed))) {
 			writeDeviations(in, s, w, m); // (what the failed pass measured stays, as it would)
 			return f;
 		}
