@@ -165,7 +165,6 @@ private:
 	// (DESIGN 40) Euler's bound on the faces of every later round, with the border vertices that
 	// the fallbacks will lock after this round's failures so far counted as junctions: once over
 	// faceLimit_, the level is abandoned without triangulating the rest of the round
-	int round_ = 0;
 	std::mutex lockMutex_;
 	std::vector<uint8_t> lockCounted_; ///< per vertex: counted in lockBound_ (this round)
 	std::vector<int32_t> lockCountedList_;
@@ -195,7 +194,6 @@ void LevelRounds::run()
 	size_t fallbacks = 0;
 	int round = 0;
 	for (;; ++round) {
-		round_ = round;
 		if (round == kMaxRounds) // give up simplifying: every vertex kept is always valid
 			std::fill(fb_.extraLock.begin(), fb_.extraLock.end(), uint8_t(1));
 		if (!buildRound(round > 0 && round < kMaxRounds)) { // (out_.stats.faces > faceLimit_)
@@ -354,10 +352,11 @@ void LevelRounds::buildSuperface(int32_t s, Scratch &w, ChunkOut &o)
 // rounds' faces grows by 2 for each (1 on the mesh's boundary). Sets overLimit_ once the bound is
 // over faceLimit_: the level will be abandoned (run) whatever the rest of the round gives, so no
 // thread needs to build more of it. (Only the outcome is used, and it is the same for any order
-// of the superfaces: the bound grows monotonically to the same total.)
+// of the superfaces: the bound grows monotonically to the same total. In the last round, with
+// every vertex locked, every border vertex is a junction already: nothing is counted.)
 void LevelRounds::countLockedBorder(int32_t s, Failure why)
 {
-	if (faceLimit_ == SIZE_MAX || t_.euler == kNoEuler || round_ >= kMaxRounds ||
+	if (faceLimit_ == SIZE_MAX || t_.euler == kNoEuler ||
 	    fallbackFor(t_, faces_, s, why, borders_, fb_) != FallbackKind::Lock)
 		return;
 	std::lock_guard<std::mutex> guard(lockMutex_);
