@@ -483,6 +483,14 @@ bool FilterGaussLodPlugin::buildGaussSphereLods(MeshDocument &md, const RichPara
 		        .arg(thousands(in.verticesLocked))
 		        .arg(req.selectedOnly ? ", unselected faces" : "")
 		        .toStdString());
+	if (in.coplanarRegions)
+		Log(QString("Coplanar regions: %1 regions of faces in one plane re-triangulated before the "
+		            "levels (%2 faces -> %3; the same surface, within %4)")
+		        .arg(thousands(in.coplanarRegions))
+		        .arg(thousands(input->cm.fn))
+		        .arg(thousands(in.facesAfterCoplanar))
+		        .arg(in.coplanarDistance, 0, 'g', 3)
+		        .toStdString());
 	if (req.selectedOnly)
 		Log(QString("Only selected faces: %1 unselected faces kept as they are in every level")
 		        .arg(thousands(in.facesKept))

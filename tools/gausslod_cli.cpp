@@ -277,13 +277,15 @@ std::string jsonString(const std::string &s)
 
 std::string repairsJson(const gausslod::InputStats &in)
 {
-	char buf[320];
+	char buf[480];
 	std::snprintf(buf, sizeof buf,
 	              "\"welded_vertices\":%zu,\"faces_reindexed\":%zu,"
 	              "\"faces_skipped_repeated_vertex\":%zu,\"faces_skipped_duplicate\":%zu,"
-	              "\"faces_kept_degenerate\":%zu,\"vertices_locked\":%zu",
+	              "\"faces_kept_degenerate\":%zu,\"vertices_locked\":%zu,"
+	              "\"coplanar_regions\":%zu,\"faces_after_coplanar\":%zu,\"coplanar_distance\":%.9g",
 	              in.weldedVertices, in.facesReindexed, in.facesRepeatedVertex, in.facesDuplicate,
-	              in.facesDegenerate, in.verticesLocked);
+	              in.facesDegenerate, in.verticesLocked, in.coplanarRegions, in.facesAfterCoplanar,
+	              in.coplanarDistance);
 	return buf;
 }
 
@@ -590,6 +592,11 @@ int main(int argc, char **argv)
 			const std::string repairs = cli::repairsText(s.input);
 			if (!repairs.empty())
 				std::printf("input repairs: %s\n", repairs.c_str());
+			if (s.input.coplanarRegions)
+				std::printf("coplanar regions: %zu, re-triangulated first (%zu faces -> %zu, "
+				            "within %.3g of the input)\n",
+				            s.input.coplanarRegions, sofar.inputFaces, s.input.facesAfterCoplanar,
+				            s.input.coplanarDistance);
 			std::string carried;
 			for (const std::string &a : sofar.attributes)
 				carried += (carried.empty() ? "" : " ") + a;

@@ -100,15 +100,22 @@ TEST(Levels, planar_grid_with_a_square_hole_keeps_boundary_and_hole_as_two_loops
 	const FlatMesh grid = gridWithHole(40, 10, 30);
 	const TopoFacts inFacts = topoFacts(grid.positions, grid.triangles);
 	ASSERT_EQ(inFacts.boundaryLoops, 2u);
-	const Result r = buildLevels(grid.view(), Params());
-	ASSERT_TRUE(r.ok) << r.error;
-	for (const LevelMesh &lm : r.levels) {
-		expectInvariants(grid, inFacts, lm);
-		EXPECT_EQ(lm.stats.superfaces, 1u);
-		EXPECT_EQ(lm.stats.retriangulated, 1u); // by the constrained Delaunay triangulation
-		EXPECT_EQ(lm.stats.vertices, 8u);        // 4 outer + 4 hole corners
-		EXPECT_EQ(lm.stats.faces, 8u);           // an annulus of 8 vertices: 8 triangles
-		EXPECT_GT(minAngleDeg(lm), 15.0);        // Delaunay, not a sliver fan
+	// the plane is triangulated once, by the constrained Delaunay triangulation of its outline:
+	// before the levels (DESIGN 41), or by each level
+	for (const bool coplanarFirst : {true, false}) {
+		Params prm;
+		prm.coplanarFirst = coplanarFirst;
+		const Result r = buildLevels(grid.view(), prm);
+		ASSERT_TRUE(r.ok) << r.error;
+		EXPECT_EQ(r.input.coplanarRegions, coplanarFirst ? 1u : 0u);
+		for (const LevelMesh &lm : r.levels) {
+			expectInvariants(grid, inFacts, lm);
+			EXPECT_EQ(lm.stats.superfaces, 1u);
+			EXPECT_EQ(lm.stats.retriangulated, coplanarFirst ? 0u : 1u);
+			EXPECT_EQ(lm.stats.vertices, 8u); // 4 outer + 4 hole corners
+			EXPECT_EQ(lm.stats.faces, 8u);    // an annulus of 8 vertices: 8 triangles
+			EXPECT_GT(minAngleDeg(lm), 15.0); // Delaunay, not a sliver fan
+		}
 	}
 }
 
@@ -163,8 +170,10 @@ TEST(Levels, a_level_sink_gets_the_same_levels_one_at_a_time_and_can_cancel)
 	const Result whole = buildLevels(m.view(), p);
 	ASSERT_TRUE(whole.ok);
 	std::vector<LevelMesh> got;
-	const Result streamed =
-	    buildLevels(m.view(), p, {}, [&](const LevelMesh &l) { got.push_back(l); return true; });
+	const Result streamed = buildLevels(m.view(), p, {}, [&](const LevelMesh &l) {
+		got.push_back(l);
+		return true;
+	});
 	ASSERT_TRUE(streamed.ok) << streamed.error;
 	ASSERT_EQ(got.size(), 3u);
 	ASSERT_EQ(streamed.levels.size(), 3u);
@@ -177,7 +186,8 @@ TEST(Levels, a_level_sink_gets_the_same_levels_one_at_a_time_and_can_cancel)
 		EXPECT_TRUE(streamed.levels[i].triangles.empty());
 	}
 	int calls = 0;
-	const Result cancelled = buildLevels(m.view(), p, {}, [&](const LevelMesh &) { return ++calls < 2; });
+	const Result cancelled =
+	    buildLevels(m.view(), p, {}, [&](const LevelMesh &) { return ++calls < 2; });
 	EXPECT_FALSE(cancelled.ok);
 	EXPECT_EQ(cancelled.error, "cancelled");
 	EXPECT_EQ(calls, 2);
@@ -284,7 +294,7 @@ TEST(Levels, papers_experiment_cow_and_dino_at_max_level_5)
 	for (const char *name : {"cow.off", "dino.off"}) {
 		const FlatMesh m = loadOff(name);
 		for (const bool across : {false, true}) {
-			Params p; // (the defaults: merging across cells, the distance tolerance)
+			Params p;      // (the defaults: merging across cells, the distance tolerance)
 			if (!across) { // the paper's mode (gausslod_paper.mlx): its superfaces, normals only
 				p.acrossCells = false;
 				p.maxDistance = 0;
@@ -294,8 +304,8 @@ TEST(Levels, papers_experiment_cow_and_dino_at_max_level_5)
 			std::printf("paper experiment %s%s: input %zu", name, across ? " (across cells)" : "",
 			            m.triangles.size() / 3);
 			for (const LevelMesh &lm : r.levels)
-				std::printf(" | M%d %zu (max dev %.2f, mean %.3f deg)", lm.stats.level, lm.stats.faces,
-				            lm.stats.maxNormalDevDeg, lm.stats.meanNormalDevDeg);
+				std::printf(" | M%d %zu (max dev %.2f, mean %.3f deg)", lm.stats.level,
+				            lm.stats.faces, lm.stats.maxNormalDevDeg, lm.stats.meanNormalDevDeg);
 			std::printf("\n");
 			expectMonotone(r);
 		}
@@ -312,7 +322,8 @@ FlatMesh flatAnnulus(int n, int rings)
 	for (int r = 0; r < rings; ++r)
 		for (int i = 0; i < n; ++i) {
 			const double radius = 0.5 + 0.5 * r / (rings - 1), a = 2 * M_PI * i / n;
-			m.positions.insert(m.positions.end(), {radius * std::cos(a), radius * std::sin(a), 0.0});
+			m.positions.insert(m.positions.end(),
+			                   {radius * std::cos(a), radius * std::sin(a), 0.0});
 		}
 	for (int r = 0; r + 1 < rings; ++r)
 		for (int i = 0; i < n; ++i) {
@@ -374,10 +385,8 @@ TEST(Levels, exact_superfaces_carried_to_the_coarser_level_give_the_same_level)
 	// each vertex: every vertex stays at LOD4 (tolerance 0.02 %), not at LOD3 (0.04 %): the same
 	// faces, another outline, not carried. fandisk's exact superfaces are merged at LOD3: none is
 	// carried. Either way the level must be the same.
-	const std::pair<const char *, bool> models[] = {{"grid cube", true},
-	                                                {"joint.off", true},
-	                                                {"annulus", false},
-	                                                {"fandisk.off", false}};
+	const std::pair<const char *, bool> models[] = {
+	    {"grid cube", true}, {"joint.off", true}, {"annulus", false}, {"fandisk.off", false}};
 	for (const auto &model : models) {
 		const std::string name = model.first;
 		SCOPED_TRACE(name);
@@ -424,7 +433,8 @@ TEST(Levels, a_level_whose_finer_level_is_carried_whole_is_that_level_as_built)
 		const FlatMesh m = name == "grid cube" ? gridCube(20)
 		                   : name == "annulus" ? flatAnnulus(110, 6)
 		                                       : weldedCopy(loadOff(name));
-		const Params prm;
+		Params prm;
+		prm.coplanarFirst = false; // (the chain below is built on the input's faces)
 		const Result r = buildLevels(m.view(), prm);
 		ASSERT_TRUE(r.ok) << r.error;
 		ASSERT_EQ(r.levels.size(), size_t(prm.maxLevel));
@@ -492,7 +502,8 @@ TEST(Levels, a_level_abandoned_over_its_face_limit_would_have_had_more_faces_tha
 			detail::buildLevelGeometry(t, prm, parts, p, full, SIZE_MAX);
 			const size_t faces = full.stats.faces;
 			ASSERT_GT(faces, 8u);
-			for (size_t limit = faces / 8; limit <= faces; limit += std::max<size_t>(1, faces / 64)) {
+			for (size_t limit = faces / 8; limit <= faces;
+			     limit += std::max<size_t>(1, faces / 64)) {
 				SCOPED_TRACE(limit);
 				detail::Partition q = parts[size_t(level)];
 				LevelMesh lm;

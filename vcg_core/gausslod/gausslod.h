@@ -129,6 +129,14 @@ struct Params {
 	/// checks again. The vertex is still the input vertex it was (LevelMesh::sourceVertex, its
 	/// attributes). false = every output vertex at its input position.
 	bool placeVertices = true;
+	/// Beyond the paper (docs/DESIGN.md, 41): before the levels, connected faces that lie in one
+	/// plane (within 1e-9 of the bounding-box diagonal, or a few float ulps for an input whose
+	/// coordinates are all floats) are re-triangulated from their outline, and the vertices
+	/// inside them or on straight chains between them dropped; every level is built on that
+	/// mesh: the same surface (within InputStats::coplanarDistance), without the faces an
+	/// over-tessellated plane costs. Off only for comparison (it is not a trade-off, hence no
+	/// filter or tool parameter); skipped for an input with texture coordinates.
+	bool coplanarFirst = true;
 	/// Input repair, as MeshLab does to STL files on import: vertices at exactly the same position
 	/// become one (the first in index order), so that a triangle soup (STL, most CAD and BIM
 	/// exports) is simplified like the welded mesh. Faces then refer to that first vertex; the
@@ -222,6 +230,14 @@ struct InputStats {
 	                                ///< oriented edges, non-manifold vertices, degenerate faces,
 	                                ///< faces kept as they are (MeshView::keepFace)
 	size_t facesKept = 0;           ///< kept as they are at the caller's request (keepFace)
+	/// Params::coplanarFirst: regions of 2+ coplanar faces re-triangulated before the levels, and
+	/// the faces the levels were built on (0 and 0: not reduced, the input's faces)
+	size_t coplanarRegions = 0;
+	size_t facesAfterCoplanar = 0;
+	/// the distance between that mesh and the input (proven, mesh units; each level's
+	/// distanceBound includes it): twice the largest distance of a region's vertex from the
+	/// region's plane plus the largest of a dropped border vertex from its straight chain
+	double coplanarDistance = 0;
 	size_t facesSkipped() const { return facesRepeatedVertex + facesDuplicate; }
 };
 

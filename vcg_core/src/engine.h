@@ -445,6 +445,26 @@ void buildFaceGrid(Topology &topo);
 /// input is not clean.
 size_t levelFaceBound(const Topology &topo, const std::vector<uint8_t> &kept);
 
+/// Beyond the paper (DESIGN 41): the input with its exactly coplanar regions (connected faces
+/// within 1e-9 of the diagonal of one plane) re-triangulated from their outlines, the vertices
+/// inside them and on straight chains between them (or along the boundary) dropped: the same
+/// surface, the same kept vertices. False (and `out` not to be used) if no region is found, the
+/// mesh has texture coordinates, or the reduction would save less than an eighth of the faces.
+struct CoplanarReduction {
+	std::vector<int32_t> triangles; ///< the reduced faces: 3 input vertex indices each
+	std::vector<int32_t> faceOf;    ///< per reduced face: an input face of its region (or itself)
+	std::vector<int32_t> cornerOf;  ///< per reduced corner: an input corner at its vertex, of a
+	                                ///< face of the same region
+	std::vector<int32_t> reducedOf; ///< per input face: a reduced face of its region; -1: dropped
+	size_t regions = 0;             ///< regions of 2+ faces re-triangulated
+	double eps = 0;      ///< the tolerance of "one plane" and "one line"
+	double distance = 0; ///< the reduced surface is within this of the input (at most 3 eps):
+	                     ///< twice the largest distance of a region's vertex from its plane, plus
+	                     ///< the largest of a dropped chain vertex from its segment
+};
+bool reduceCoplanar(const MeshView &mesh, const Topology &topo, size_t threads,
+                    CoplanarReduction &out);
+
 /// 2.2.1 The finest near-coplanar sets: faces of one cell connected through 2-manifold edges.
 void finestPartition(const Topology &topo, int level, Partition &out);
 

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <memory>
 #include <new>
 
 namespace gausslod {
@@ -356,10 +357,64 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			return false;
 		MeshView mesh;
 		std::vector<int32_t> welded; // the triangles on welded vertices (only if any was welded)
-		Topology topo;
+		std::unique_ptr<Topology> inputTopo(new Topology());
 		const size_t threads = threadCount(params.threads);
-		if (!prepare(input, params, res, mesh, welded, topo, threads))
+		if (!prepare(input, params, res, mesh, welded, *inputTopo, threads))
 			return false;
+		// DESIGN 41: the levels are built on the input with its exactly coplanar regions
+		// re-triangulated from their outlines (the same surface), if that saves faces
+		CoplanarReduction red;
+		MeshView full = mesh;
+		std::vector<uint32_t> redFaceKey, redCornerKey;
+		std::vector<uint8_t> redKeep;
+		Topology reducedTopo;
+		const bool reduced = params.coplanarFirst && reduceCoplanar(mesh, *inputTopo, threads, red);
+		if (reduced) {
+			const size_t nR = red.faceOf.size();
+			mesh.triangles = red.triangles.data();
+			mesh.faceCount = nR;
+			if (full.faceKey) {
+				redFaceKey.resize(nR);
+				for (size_t g = 0; g < nR; ++g)
+					redFaceKey[g] = full.faceKey[size_t(red.faceOf[g])];
+				mesh.faceKey = redFaceKey.data();
+			}
+			if (full.cornerKey) {
+				redCornerKey.resize(3 * nR);
+				for (size_t c = 0; c < 3 * nR; ++c)
+					redCornerKey[c] = full.cornerKey[size_t(red.cornerOf[c])];
+				mesh.cornerKey = redCornerKey.data();
+			}
+			if (full.keepFace) {
+				redKeep.resize(nR);
+				for (size_t g = 0; g < nR; ++g)
+					redKeep[g] = full.keepFace[size_t(red.faceOf[g])];
+				mesh.keepFace = redKeep.data();
+			}
+			inputTopo.reset();
+			res.input.coplanarRegions = red.regions;
+			res.input.facesAfterCoplanar = nR;
+			res.input.coplanarDistance = red.distance;
+			buildTopology(mesh, params.featureAngle, reducedTopo, threads, false);
+		}
+		Topology &topo = reduced ? reducedTopo : *inputTopo;
+		// a level as the caller sees it: on the input's faces and corners
+		auto toInput = [&](const LevelMesh &lm) {
+			LevelMesh o = lm;
+			if (!reduced)
+				return o;
+			o.inputSuperface.assign(full.faceCount, -1);
+			for (size_t f = 0; f < full.faceCount; ++f)
+				if (red.reducedOf[f] >= 0 && size_t(red.reducedOf[f]) < lm.inputSuperface.size())
+					o.inputSuperface[f] = lm.inputSuperface[size_t(red.reducedOf[f])];
+			for (int32_t &c : o.sourceCorner)
+				c = c >= 0 ? red.cornerOf[size_t(c)] : c;
+			for (int32_t &f : o.sourceFace)
+				f = f >= 0 ? red.faceOf[size_t(f)] : f;
+			if (o.stats.distanceBound >= 0) // (the reduced surface is within that of the input)
+				o.stats.distanceBound += red.distance;
+			return o;
+		};
 		const int finest = params.maxLevel - 1;
 		const bool across = params.acrossCells;
 		// cross-cell unions: normals within the level's bound of each other, and never across a
@@ -423,7 +478,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			if (share)
 				triangleShare(byFaces ? levelPart : parts[size_t(level) + 1], finer, finerCost);
 			const size_t faceLimit = level < finest ? finer.stats.faces : SIZE_MAX;
-			const size_t target = byFaces ? faceTarget(params, level, mesh.faceCount) : 0;
+			const size_t target = byFaces ? faceTarget(params, level, full.faceCount) : 0;
 			if (sameAsFiner) {
 				takeFinerMesh(mesh, parts[size_t(level)].label, finer, finerPlaced, lm);
 				lm.stats.level = level;
@@ -472,10 +527,10 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 				                " lost the surface of " + std::to_string(lost) +
 				                " input faces (no output triangle for their superface)");
 			const bool wanted = params.outputLevels & (1u << level);
-			if (wanted && sink && !sink(lm))
+			if (wanted && sink && !sink(toInput(lm)))
 				return fail(res, ErrorKind::Cancelled, "cancelled");
 			if (wanted && !sink) {
-				res.levels.push_back(lm);
+				res.levels.push_back(toInput(lm));
 			} else if (wanted) {
 				res.levels.emplace_back();
 				res.levels.back().stats = lm.stats;
