@@ -366,6 +366,7 @@ bool reduceCoplanar(const MeshView &mesh, const Topology &t, size_t threads, Cop
 	}
 	// the reduced faces, in the order of each region's first face
 	std::vector<uint8_t> emitted(nR, 0);
+	std::vector<int32_t> stamp(t.nV, 0); // (region + 1 that counted a dropped vertex)
 	out.reducedOf.assign(t.nF, -1);
 	for (size_t f = 0; f < t.nF; ++f) {
 		if (t.faceDropped[f])
@@ -373,6 +374,7 @@ bool reduceCoplanar(const MeshView &mesh, const Topology &t, size_t threads, Cop
 		const int32_t k = r.of[f];
 		if (k < 0 || r.dead[size_t(k)]) {
 			out.reducedOf[f] = int32_t(out.faceOf.size());
+			out.weight.push_back(1.0f);
 			out.faceOf.push_back(int32_t(f));
 			for (size_t c = 0; c < 3; ++c) {
 				out.triangles.push_back(t.T[3 * f + c]);
@@ -388,7 +390,25 @@ bool reduceCoplanar(const MeshView &mesh, const Topology &t, size_t threads, Cop
 		++out.regions;
 		out.reducedOf[f] = int32_t(out.faceOf.size());
 		const std::vector<int32_t> &tris = work[triWorker[size_t(k)]].tris;
+		// the input samples the region stands for (its faces and dropped vertices), shared out
+		// by area
+		double samples = double(start[size_t(k) + 1] - start[size_t(k)]), area = 0;
+		for (int32_t i = start[size_t(k)]; i < start[size_t(k) + 1]; ++i) {
+			const int32_t g = faces[size_t(i)];
+			area += t.faceArea[size_t(g)];
+			for (int32_t c = 0; c < 3; ++c) {
+				const int32_t v = t.T[size_t(3 * g + c)];
+				if (!keep[size_t(v)] && stamp[size_t(v)] != k + 1) {
+					stamp[size_t(v)] = k + 1;
+					samples += 1;
+				}
+			}
+		}
 		for (int32_t i = triStart[size_t(k)]; i < triEnd[size_t(k)]; i += 3) {
+			const Vec3 a = t.pos(tris[size_t(i)]), b = t.pos(tris[size_t(i + 1)]),
+			           c = t.pos(tris[size_t(i + 2)]);
+			const double share = area > 0 ? 0.5 * ((b - a) ^ (c - a)).Norm() / area : 0;
+			out.weight.push_back(float(samples * share));
 			out.faceOf.push_back(int32_t(f));
 			for (int32_t c = 0; c < 3; ++c) {
 				const int32_t v = tris[size_t(i + c)];

@@ -381,6 +381,10 @@ struct Topology {
 	std::vector<uint8_t> vertexClass;     ///< VertexClass (2.3.2)
 	std::vector<int32_t> vfStart, vfFace; ///< vertex -> incident faces (CSR)
 	FaceGrid grid;                        ///< the valid faces, for nearest-face queries
+	/// Per face, how many of the caller's input samples (face centroids and vertices) it stands
+	/// for in vertex placement: a face of the mesh the levels are built on that replaced a
+	/// region of coplanar input faces (reduceCoplanar) stands for its share of theirs. Empty: 1.
+	std::vector<float> sampleWeight;
 	/// The surface's Euler characteristic V - E + F, if the input is a clean 2-manifold (every
 	/// face valid, none dropped or kept by the caller, no vertex locked: every edge has a twin or
 	/// is a true boundary edge, every vertex one fan); kNoEuler otherwise. Every level is then a
@@ -456,6 +460,9 @@ struct CoplanarReduction {
 	std::vector<int32_t> cornerOf;  ///< per reduced corner: an input corner at its vertex, of a
 	                                ///< face of the same region
 	std::vector<int32_t> reducedOf; ///< per input face: a reduced face of its region; -1: dropped
+	std::vector<float> weight;      ///< per reduced face: Topology::sampleWeight (1 outside the
+	                                ///< regions; in a region, its faces and dropped vertices, by
+	                                ///< the face's share of its area)
 	size_t regions = 0;             ///< regions of 2+ faces re-triangulated
 	double eps = 0;      ///< the tolerance of "one plane" and "one line"
 	double distance = 0; ///< the reduced surface is within this of the input (at most 3 eps):

@@ -396,6 +396,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			res.input.facesAfterCoplanar = nR;
 			res.input.coplanarDistance = red.distance;
 			buildTopology(mesh, params.featureAngle, reducedTopo, threads, false);
+			reducedTopo.sampleWeight = std::move(red.weight);
 		}
 		Topology &topo = reduced ? reducedTopo : *inputTopo;
 		// a level as the caller sees it: on the input's faces and corners

@@ -56,6 +56,7 @@ struct ChunkSamples {
 	std::vector<uint32_t> start; ///< per triangle of the chunk, its samples; + 1
 	std::vector<float> rate;     ///< 3 per triangle
 	std::vector<Sample> samples;
+	std::vector<float> weight; ///< per sample, with Topology::sampleWeight (else empty: 1 each)
 };
 
 } // namespace
@@ -142,7 +143,9 @@ void placeVertices(const PlacementInput &pin, Chunks &chunks, Borders &b, Rings 
 		cs.start.assign(ntc + 1, 0);
 		cs.rate.assign(3 * ntc, 0.0f);
 		std::vector<std::pair<uint32_t, Sample>> found; // (triangle of the chunk, sample)
-		auto add = [&](size_t k, const double bc[3], double r) {
+		std::vector<float> foundWeight;                 // (with Topology::sampleWeight)
+		const bool weighted = !t.sampleWeight.empty();
+		auto add = [&](size_t k, const double bc[3], double r, float weight) {
 			const int32_t *v = &lt.tris[3 * k];
 			if (slot[size_t(v[0])] < 0 && slot[size_t(v[1])] < 0 && slot[size_t(v[2])] < 0)
 				return; // (no corner moves: nothing to fit)
@@ -151,6 +154,8 @@ void placeVertices(const PlacementInput &pin, Chunks &chunks, Borders &b, Rings 
 			smp.b2 = uint16_t(std::lround(std::min(bc[2], 1.0 - double(smp.b1) / kUnit) * kUnit));
 			smp.r = float(r);
 			found.emplace_back(uint32_t(k - cs.first), smp);
+			if (weighted)
+				foundWeight.push_back(weight);
 		};
 		for (int32_t s = s0; s < s1; ++s) {
 			if (!involved[size_t(s)])
@@ -170,8 +175,14 @@ void placeVertices(const PlacementInput &pin, Chunks &chunks, Borders &b, Rings 
 			}
 			if (copied || ntri == 1) {
 				const double third[3] = {1.0 / 3, 1.0 / 3, 1.0 / 3};
+				// (as many triangles as faces: the faces copied, in order)
+				const bool asFaces =
+				    weighted && int32_t(ntri) == in.faces.end(s) - in.faces.begin(s);
 				for (size_t k = first; k < first + ntri; ++k)
-					add(k, third, 0.0);
+					add(k, third, 0.0,
+					    asFaces ? t.sampleWeight[size_t(
+					                  in.faces.face[size_t(in.faces.begin(s)) + (k - first)])]
+					            : 1.0f);
 				continue;
 			}
 			Vec3 N;
@@ -207,7 +218,9 @@ void placeVertices(const PlacementInput &pin, Chunks &chunks, Borders &b, Rings 
 				for (double &x : bc)
 					x /= sum;
 				const size_t k = first + size_t(kl);
-				add(k, bc, (P - t.pos(lt.tris[3 * k])).dot(triUnitNormal(k)));
+				add(k, bc, (P - t.pos(lt.tris[3 * k])).dot(triUnitNormal(k)),
+				    weighted && q < faces ? t.sampleWeight[size_t(in.faces.face[size_t(fb) + q])]
+				                          : 1.0f);
 			}
 		}
 		// by triangle (in order of discovery within one: a counting sort)
@@ -216,9 +229,14 @@ void placeVertices(const PlacementInput &pin, Chunks &chunks, Borders &b, Rings 
 		for (size_t k = 0; k < ntc; ++k)
 			cs.start[k + 1] += cs.start[k];
 		cs.samples.resize(found.size());
+		cs.weight.resize(foundWeight.size());
 		std::vector<uint32_t> fill(cs.start.begin(), cs.start.end() - 1);
-		for (const auto &f : found)
-			cs.samples[fill[f.first]++] = f.second;
+		for (size_t i = 0; i < found.size(); ++i) {
+			const uint32_t at = fill[found[i].first]++;
+			cs.samples[at] = found[i].second;
+			if (weighted)
+				cs.weight[at] = foundWeight[i];
+		}
 	});
 
 	// least squares for the moves d (along each vertex's normal): Jacobi iterations, in sample
@@ -244,9 +262,13 @@ void placeVertices(const PlacementInput &pin, Chunks &chunks, Borders &b, Rings 
 					const double a[3] = {(1 - b1 - b2) * double(rate[0]), b1 * double(rate[1]),
 					                     b2 * double(rate[2])};
 					const double res = double(smp.r) - a[0] * dj[0] - a[1] * dj[1] - a[2] * dj[2];
+					// (weighted: the input samples it stands for; 1 is exact, the same sums)
+					const double wt = cs.weight.empty() ? 1.0 : double(cs.weight[q]);
 					for (size_t j = 0; j < 3; ++j)
-						if (sl[j] >= 0)
-							num[size_t(sl[j])] += a[j] * res, den[size_t(sl[j])] += a[j] * a[j];
+						if (sl[j] >= 0) {
+							const double wa = wt * a[j];
+							num[size_t(sl[j])] += wa * res, den[size_t(sl[j])] += wa * a[j];
+						}
 				}
 			}
 		for (size_t i = 0; i < ns; ++i)
