@@ -3,6 +3,7 @@
 // engine: from every input vertex and sample points of the input faces to the level, and from
 // sample points of the level's triangles to the input (a sampled distance is at most the true
 // Hausdorff distance, which the bound must not be below).
+#include "engine.h"
 #include "test_meshes.h"
 
 #include "gausslod_io/import_mesh.h"
@@ -13,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
 
 using namespace gausslod;
@@ -263,5 +265,149 @@ TEST(ErrorBound, is_zero_for_an_exact_planar_level)
 	for (const LevelMesh &lm : r.levels) {
 		EXPECT_EQ(lm.stats.faces, 12u);
 		EXPECT_LT(lm.stats.distanceBound, 1e-9 * diag) << "LOD" << lm.stats.level;
+	}
+}
+
+namespace {
+
+// Each triangle split in 4 at its edge midpoints (shared between the triangles of an edge): the
+// same surface, every input triangle now 4 coplanar faces. `toFloat`: coordinates rounded to
+// 32-bit floats, as a PLY or STL file of floats holds them (the 4 are then coplanar only within
+// the floats' rounding).
+FlatMesh midpointSplit(const FlatMesh &m, bool toFloat)
+{
+	FlatMesh o;
+	o.positions = m.positions;
+	std::map<std::pair<int32_t, int32_t>, int32_t> mid;
+	auto midpoint = [&](int32_t a, int32_t b) {
+		const auto key = std::make_pair(std::min(a, b), std::max(a, b));
+		auto it = mid.find(key);
+		if (it != mid.end())
+			return it->second;
+		const int32_t id = int32_t(o.positions.size() / 3);
+		for (int k = 0; k < 3; ++k)
+			o.positions.push_back(0.5 * (m.positions[3 * size_t(a) + size_t(k)] +
+			                             m.positions[3 * size_t(b) + size_t(k)]));
+		mid.emplace(key, id);
+		return id;
+	};
+	for (size_t f = 0; f < m.triangles.size() / 3; ++f) {
+		const int32_t a = m.triangles[3 * f], b = m.triangles[3 * f + 1],
+		              c = m.triangles[3 * f + 2];
+		const int32_t ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+		for (const int32_t t : {a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca})
+			o.triangles.push_back(t);
+	}
+	if (toFloat)
+		for (double &x : o.positions)
+			x = double(float(x));
+	return o;
+}
+
+} // namespace
+
+// DESIGN 41: the mesh the levels are built on (coplanar regions re-triangulated first) is the
+// input's surface: within the distance the reduction reports, both ways, with the input's
+// topology, on its own vertices, each reduced corner mapped to an input corner at its vertex.
+TEST(ErrorBound, coplanar_regions_first_keep_the_surface_and_its_topology)
+{
+	struct Case {
+		std::string name;
+		FlatMesh mesh;
+		bool reduced;
+	};
+	const FlatMesh fandisk = loadOff("fandisk.off");
+	const std::vector<Case> cases = {
+	    {"grid cube", gridCube(20), true},
+	    {"grid with a hole", gridWithHole(40, 10, 30), true},
+	    {"fandisk split", midpointSplit(fandisk, false), true},
+	    {"fandisk split, floats", midpointSplit(fandisk, true), true},
+	    {"joint split twice, floats",
+	     midpointSplit(midpointSplit(loadOff("joint.off"), true), true), true},
+	    {"bunny00", loadOff("bunny00.off"), false}};
+	for (const Case &c : cases) {
+		SCOPED_TRACE(c.name);
+		const FlatMesh &m = c.mesh;
+		detail::Topology t;
+		detail::buildTopology(m.view(), 30.0, t);
+		detail::CoplanarReduction red;
+		const bool reduced = detail::reduceCoplanar(m.view(), t, 2, red);
+		EXPECT_EQ(reduced, c.reduced);
+		if (!reduced)
+			continue;
+		const size_t nR = red.faceOf.size();
+		ASSERT_EQ(red.triangles.size(), 3 * nR);
+		ASSERT_EQ(red.cornerOf.size(), 3 * nR);
+		for (size_t k = 0; k < 3 * nR; ++k) // (a corner of the input at the same vertex)
+			ASSERT_EQ(m.triangles[size_t(red.cornerOf[k])], red.triangles[k]) << k;
+		for (size_t f = 0; f < m.triangles.size() / 3; ++f)
+			ASSERT_GE(red.reducedOf[f], 0) << f;
+		FlatMesh r;
+		r.positions = m.positions;
+		r.triangles = red.triangles;
+		const TopoFacts a = topoFacts(m.positions, m.triangles),
+		                b = topoFacts(r.positions, r.triangles);
+		EXPECT_EQ(a.euler, b.euler);
+		EXPECT_EQ(a.boundaryLoops, b.boundaryLoops);
+		EXPECT_EQ(a.components, b.components);
+		EXPECT_EQ(b.nonManifoldEdges + b.inconsistentEdges + b.nonManifoldVertices,
+		          a.nonManifoldEdges + a.inconsistentEdges + a.nonManifoldVertices);
+		const NearestTriangle in(m.positions, m.triangles), out(r.positions, r.triangles);
+		double inToOut = 0, outToIn = 0;
+		for (const Vec3 &p : samplePoints(m.positions, m.triangles, true, true, 20000, 3))
+			inToOut = std::max(inToOut, out.distance(p));
+		for (const Vec3 &p : samplePoints(r.positions, r.triangles, true, true, 20000, 4))
+			outToIn = std::max(outToIn, in.distance(p));
+		const double diag = bboxDiagonal(m.view());
+		EXPECT_LE(std::max(inToOut, outToIn), red.distance + 1e-9 * diag)
+		    << "reported " << red.distance << ", sampled " << inToOut << " / " << outToIn;
+		EXPECT_LE(red.distance, 3 * red.eps);
+		std::printf("%s: %zu faces -> %zu (%zu regions), within %.3g (sampled %.3g)\n",
+		            c.name.c_str(), m.triangles.size() / 3, nR, red.regions, red.distance,
+		            std::max(inToOut, outToIn));
+	}
+	// the grid cube: one region per side, each side's 4 corners: 12 triangles
+	detail::Topology t;
+	const FlatMesh cube = gridCube(20);
+	detail::buildTopology(cube.view(), 30.0, t);
+	detail::CoplanarReduction red;
+	ASSERT_TRUE(detail::reduceCoplanar(cube.view(), t, 1, red));
+	EXPECT_EQ(red.faceOf.size(), 12u);
+	EXPECT_EQ(red.regions, 6u);
+	EXPECT_LT(red.distance, 1e-12); // (its 1/20 coordinates: rounding only)
+}
+
+// The levels built on the reduced mesh: every guarantee as on the input (the bound above the
+// sampled distance, each input face in a superface with triangles), the same for one thread or
+// two, and identical to the levels of the input where nothing is reduced.
+TEST(ErrorBound, levels_on_coplanar_regions_first_hold_their_bound_for_any_threads)
+{
+	const FlatMesh m = midpointSplit(loadOff("fandisk.off"), true);
+	size_t levels = 0;
+	double worst = 0;
+	Params one, two;
+	one.threads = 1, two.threads = 2;
+	checkBound("fandisk split, floats", m, two, levels, worst);
+	const Result a = buildLevels(m.view(), one), b = buildLevels(m.view(), two);
+	ASSERT_TRUE(a.ok && b.ok);
+	EXPECT_GT(a.input.coplanarRegions, 0u);
+	EXPECT_LT(a.input.facesAfterCoplanar, m.triangles.size() / 3 / 2);
+	ASSERT_EQ(a.levels.size(), b.levels.size());
+	for (size_t i = 0; i < a.levels.size(); ++i) {
+		EXPECT_EQ(a.levels[i].triangles, b.levels[i].triangles) << i;
+		EXPECT_EQ(a.levels[i].positions, b.levels[i].positions) << i;
+		EXPECT_EQ(a.levels[i].inputSuperface, b.levels[i].inputSuperface) << i;
+		EXPECT_EQ(a.levels[i].inputSuperface.size(), m.triangles.size() / 3);
+	}
+	// nothing coplanar to merge: the levels of the input, as they were
+	const FlatMesh bunny = loadOff("bunny00.off");
+	Params off;
+	off.coplanarFirst = false;
+	const Result c = buildLevels(bunny.view(), Params()), d = buildLevels(bunny.view(), off);
+	ASSERT_TRUE(c.ok && d.ok);
+	EXPECT_EQ(c.input.coplanarRegions, 0u);
+	for (size_t i = 0; i < c.levels.size(); ++i) {
+		EXPECT_EQ(c.levels[i].triangles, d.levels[i].triangles) << i;
+		EXPECT_EQ(c.levels[i].positions, d.levels[i].positions) << i;
 	}
 }
