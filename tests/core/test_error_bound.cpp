@@ -339,11 +339,15 @@ TEST(ErrorBound, coplanar_regions_first_keep_the_surface_and_its_topology)
 		ASSERT_EQ(red.triangles.size(), 3 * nR);
 		ASSERT_EQ(red.cornerOf.size(), 3 * nR);
 		for (size_t k = 0; k < 3 * nR; ++k) // (a corner of the input at the same vertex)
-			ASSERT_EQ(m.triangles[size_t(red.cornerOf[k])], red.triangles[k]) << k;
+			ASSERT_EQ(m.triangles[size_t(red.cornerOf[k])], red.vertexOf[size_t(red.triangles[k])])
+			    << k;
+		for (size_t v = 0; v < red.vertexOf.size(); ++v) // (its input vertex, where it is)
+			for (size_t k = 0; k < 3; ++k)
+				ASSERT_EQ(red.positions[3 * v + k], m.positions[3 * size_t(red.vertexOf[v]) + k]);
 		for (size_t f = 0; f < m.triangles.size() / 3; ++f)
 			ASSERT_GE(red.reducedOf[f], 0) << f;
 		FlatMesh r;
-		r.positions = m.positions;
+		r.positions = red.positions;
 		r.triangles = red.triangles;
 		const TopoFacts a = topoFacts(m.positions, m.triangles),
 		                b = topoFacts(r.positions, r.triangles);

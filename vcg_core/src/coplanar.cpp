@@ -27,25 +27,99 @@ struct Regions {
 	double planeDev = 0;       ///< the largest distance of a region's vertex from its plane
 };
 
-// Regions of 2+ faces: grown from each face (in face order) across 2-manifold, non-delimiter
-// edges to faces whose three vertices are within eps of the seed face's plane and that face the
-// same way (a face folded back onto the plane is not one with it).
-void growRegions(const MeshView &mesh, const Topology &t, double eps, Regions &r)
+// Regions of 2+ faces: connected across 2-manifold, non-delimiter edges, every vertex within eps
+// of the plane of the region's first face (its seed), every face facing the same way as the seed
+// (a face folded back onto the plane is not one with it). In parallel: each edge links its two
+// faces if each one's third vertex is within eps of the other's plane and they face the same
+// way; the linked faces' components whose every face is within eps of the seed's plane are the
+// regions; a component that is not (a surface curving too slowly for one edge to show it) is
+// grown again face by face from its faces in order, against each seed's plane.
+void growRegions(const MeshView &mesh, const Topology &t, double eps, size_t threads, Regions &r)
 {
-	r.of.assign(t.nF, -1);
-	std::vector<int32_t> stack;
+	const size_t nF = t.nF;
 	auto eligible = [&](size_t f) {
 		return !t.faceDropped[f] && t.faceValid[f] && !(mesh.keepFace && mesh.keepFace[f]);
 	};
-	for (size_t s = 0; s < t.nF; ++s) {
-		if (r.of[s] != -1 || !eligible(s))
+	// union-find over faces; a component's root is its lowest face
+	std::vector<int32_t> parent(nF);
+	for (size_t f = 0; f < nF; ++f)
+		parent[f] = int32_t(f);
+	auto find = [&](int32_t f) {
+		while (parent[size_t(f)] != f)
+			f = parent[size_t(f)] = parent[size_t(parent[size_t(f)])];
+		return f;
+	};
+	std::vector<uint8_t> link(nF, 0); // bit e: f's edge e links it to its twin's face
+	parallelRanges(nF, threads, [&](size_t f0, size_t f1, size_t) {
+		for (size_t f = f0; f < f1; ++f) {
+			if (!eligible(f))
+				continue;
+			const Vec3 n = t.faceNormal[f];
+			for (size_t e = 0; e < 3; ++e) {
+				const int32_t h = t.joinTwin(3 * f + e);
+				if (h < 0 || size_t(heFace(h)) < f || !eligible(size_t(heFace(h))))
+					continue; // (each edge once, from its lower face)
+				const size_t g = size_t(heFace(h));
+				const Vec3 a = t.pos(t.heFrom(h)), b = t.pos(t.heTo(h));
+				const Vec3 cg = t.pos(t.heFrom(hePrev(h)));
+				const Vec3 cf = t.pos(t.T[3 * f + (e + 2) % 3]);
+				const Vec3 ng = t.faceNormal[g];
+				if (std::fabs((cg - a).dot(n)) <= eps && std::fabs((cf - a).dot(ng)) <= eps &&
+				    ((b - a) ^ (cg - a)).dot(n) > 0 && n.dot(ng) > 0)
+					link[f] |= uint8_t(1u << e);
+			}
+		}
+	});
+	for (size_t f = 0; f < nF; ++f)
+		for (size_t e = 0; e < 3; ++e)
+			if (link[f] & (1u << e)) {
+				const int32_t a = find(int32_t(f)), b = find(heFace(t.joinTwin(3 * f + e)));
+				if (a != b)
+					parent[size_t(std::max(a, b))] = std::min(a, b);
+			}
+	std::vector<int32_t> size(nF, 0);
+	for (size_t f = 0; f < nF; ++f)
+		parent[f] = find(int32_t(f)), ++size[size_t(parent[f])];
+	// each face's vertices against its seed's plane (a component that fails: bad)
+	std::vector<uint8_t> bad(nF, 0);
+	std::vector<double> devOf(std::max<size_t>(1, threads), 0.0);
+	std::vector<std::vector<int32_t>> badOf(devOf.size());
+	parallelRanges(nF, threads, [&](size_t f0, size_t f1, size_t part) {
+		double &dev = devOf[part];
+		for (size_t f = f0; f < f1; ++f) {
+			const size_t s = size_t(parent[f]);
+			if (size[s] < 2)
+				continue;
+			const Vec3 n = t.faceNormal[s], p = t.pos(t.T[3 * s]);
+			for (size_t k = 0; k < 3; ++k) {
+				const double d = std::fabs((t.pos(t.T[3 * f + k]) - p).dot(n));
+				if (d > eps)
+					badOf[part].push_back(int32_t(s));
+				else
+					dev = std::max(dev, d);
+			}
+		}
+	});
+	for (const std::vector<int32_t> &b : badOf)
+		for (const int32_t root : b)
+			bad[size_t(root)] = 1;
+	// the regions, in the order of their seeds; a bad component grown again face by face
+	r.of.assign(nF, -1);
+	std::vector<int32_t> stack;
+	for (size_t s = 0; s < nF; ++s) {
+		const size_t root = size_t(parent[s]);
+		if (size[root] < 2 || r.of[s] != -1)
 			continue;
-		const Vec3 n = t.faceNormal[s], p = t.pos(t.T[3 * s]);
+		if (!bad[root] && root != s)
+			continue; // (its root came first: the component's lowest face)
 		const int32_t id = int32_t(r.seed.size());
+		if (!bad[root]) {
+			r.seed.push_back(int32_t(s));
+			r.of[s] = id;
+			continue; // (its other faces: below)
+		}
+		const Vec3 n = t.faceNormal[s], p = t.pos(t.T[3 * s]);
 		size_t members = 1;
-		double devHere = 0; // (the seed's own vertices: 0 and rounding of its normal)
-		for (size_t k = 1; k < 3; ++k)
-			devHere = std::max(devHere, std::fabs((t.pos(t.T[3 * s + k]) - p).dot(n)));
 		stack.assign(1, int32_t(s));
 		r.of[s] = id;
 		while (!stack.empty()) {
@@ -56,29 +130,38 @@ void growRegions(const MeshView &mesh, const Topology &t, double eps, Regions &r
 				if (h < 0)
 					continue;
 				const size_t g = size_t(heFace(h));
-				if (r.of[g] != -1 || !eligible(g))
+				if (r.of[g] != -1 || size_t(parent[g]) != root)
 					continue;
-				const Vec3 a = t.pos(t.T[3 * g]), b = t.pos(t.T[3 * g + 1]),
-				           c = t.pos(t.T[3 * g + 2]);
-				const double dev = std::max({std::fabs((a - p).dot(n)), std::fabs((b - p).dot(n)),
-				                             std::fabs((c - p).dot(n))});
-				if (!(dev <= eps && ((b - a) ^ (c - a)).dot(n) > 0))
+				const Vec3 c = t.pos(t.heFrom(hePrev(h)));
+				const Vec3 a = t.pos(t.heFrom(h)), b = t.pos(t.heTo(h));
+				if (!(std::fabs((c - p).dot(n)) <= eps && ((b - a) ^ (c - a)).dot(n) > 0))
 					continue;
-				devHere = std::max(devHere, dev);
 				r.of[g] = id;
 				++members;
 				stack.push_back(int32_t(g));
 			}
 		}
 		if (members < 2) {
-			r.of[s] = -2; // (looked at: a region of its own; -1 again below)
+			r.of[s] = -2; // (a region of its own: -1 below)
 			continue;
 		}
 		r.seed.push_back(int32_t(s));
-		r.planeDev = std::max(r.planeDev, devHere);
 	}
-	for (int32_t &x : r.of)
-		x = x < 0 ? -1 : x;
+	for (size_t f = 0; f < nF; ++f) {
+		const size_t root = size_t(parent[f]);
+		if (size[root] >= 2 && !bad[root])
+			r.of[f] = r.of[root];
+		else if (r.of[f] < 0)
+			r.of[f] = -1;
+	}
+	for (const double d : devOf)
+		r.planeDev = std::max(r.planeDev, d);
+	// (a bad component's faces grown again are within eps of their seeds' planes: eps bounds)
+	for (size_t f = 0; f < nF; ++f)
+		if (size[size_t(parent[f])] >= 2 && bad[size_t(parent[f])]) {
+			r.planeDev = std::max(r.planeDev, eps);
+			break;
+		}
 	r.dead.assign(r.seed.size(), 0);
 }
 
@@ -260,7 +343,7 @@ bool reduceCoplanar(const MeshView &mesh, const Topology &t, size_t threads, Cop
 	const double eps = coplanarTolerance(t);
 	out.eps = eps;
 	Regions r;
-	growRegions(mesh, t, eps, r);
+	growRegions(mesh, t, eps, threads, r);
 	if (r.seed.empty())
 		return false;
 	// the faces of each region
@@ -427,6 +510,19 @@ bool reduceCoplanar(const MeshView &mesh, const Topology &t, size_t threads, Cop
 			}
 		}
 	}
+	// the vertices the reduced faces use, renumbered in input order
+	std::vector<int32_t> compact(t.nV, -1);
+	for (const int32_t v : out.triangles)
+		compact[size_t(v)] = 0;
+	for (size_t v = 0; v < t.nV; ++v)
+		if (compact[v] == 0) {
+			compact[v] = int32_t(out.vertexOf.size());
+			out.vertexOf.push_back(int32_t(v));
+			for (size_t k = 0; k < 3; ++k)
+				out.positions.push_back(t.P[3 * v + k]);
+		}
+	for (int32_t &v : out.triangles)
+		v = compact[size_t(v)];
 	// (each surface within planeDev of each region's plane, the outlines within chainDev of each
 	// other in it)
 	double chainDev = 0;

@@ -436,8 +436,10 @@ size_t weldVertices(const MeshView &mesh, double distance, std::vector<int32_t> 
 /// Builds Topology from the input (validated by the caller). featureAngleDeg: 2.3.2 threshold.
 /// withGrid = false leaves topo.grid to buildFaceGrid (which only writes topo.grid: it may run
 /// on another thread while the partition is built).
+/// withClasses = false leaves the vertex classes and Topology::euler to classifyTopology.
 void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &topo, size_t threads = 1,
-                   bool withGrid = true);
+                   bool withGrid = true, bool withClasses = true);
+void classifyTopology(Topology &topo, double featureAngleDeg, size_t threads);
 /// topo.grid over the valid faces (see FaceGrid; the buckets' cones are left to its coneOf);
 /// needs the faces' validity.
 void buildFaceGrid(Topology &topo);
@@ -455,7 +457,10 @@ size_t levelFaceBound(const Topology &topo, const std::vector<uint8_t> &kept);
 /// surface, the same kept vertices. False (and `out` not to be used) if no region is found, the
 /// mesh has texture coordinates, or the reduction would save less than an eighth of the faces.
 struct CoplanarReduction {
-	std::vector<int32_t> triangles; ///< the reduced faces: 3 input vertex indices each
+	std::vector<int32_t> triangles; ///< the reduced faces: 3 indices into vertexOf each
+	std::vector<int32_t> vertexOf;  ///< per vertex of the reduced mesh: its input vertex (the
+	                                ///< input's vertices that the reduced faces use, in order)
+	std::vector<double> positions;  ///< xyz per vertex of the reduced mesh
 	std::vector<int32_t> faceOf;    ///< per reduced face: an input face of its region (or itself)
 	std::vector<int32_t> cornerOf;  ///< per reduced corner: an input corner at its vertex, of a
 	                                ///< face of the same region

@@ -140,7 +140,8 @@ bool prepare(const MeshView &input, const Params &params, Result &res, MeshView 
 	if (!error.empty())
 		return fail(res, ErrorKind::BadInput, error);
 	weldInput(input, params, mesh, welded, res.input);
-	detail::buildTopology(mesh, params.featureAngle, topo, threads, false);
+	// (the vertex classes are the levels' business: buildLevels classifies the mesh it builds on)
+	detail::buildTopology(mesh, params.featureAngle, topo, threads, false, false);
 	countRepairs(mesh, topo, res.input);
 	if (res.input.facesSkipped() == mesh.faceCount)
 		return fail(res, ErrorKind::BadInput,
@@ -371,6 +372,8 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 		const bool reduced = params.coplanarFirst && reduceCoplanar(mesh, *inputTopo, threads, red);
 		if (reduced) {
 			const size_t nR = red.faceOf.size();
+			mesh.positions = red.positions.data();
+			mesh.vertexCount = red.vertexOf.size();
 			mesh.triangles = red.triangles.data();
 			mesh.faceCount = nR;
 			if (full.faceKey) {
@@ -391,13 +394,17 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 					redKeep[g] = full.keepFace[size_t(red.faceOf[g])];
 				mesh.keepFace = redKeep.data();
 			}
+			const double diagonal = inputTopo->diagonal;
 			inputTopo.reset();
 			res.input.coplanarRegions = red.regions;
 			res.input.facesAfterCoplanar = nR;
 			res.input.coplanarDistance = red.distance;
 			buildTopology(mesh, params.featureAngle, reducedTopo, threads, false);
 			reducedTopo.sampleWeight = std::move(red.weight);
+			reducedTopo.diagonal = diagonal; // (the input's: every tolerance is a fraction of it)
 		}
+		if (!reduced)
+			classifyTopology(*inputTopo, params.featureAngle, threads);
 		Topology &topo = reduced ? reducedTopo : *inputTopo;
 		// a level as the caller sees it: on the input's faces and corners
 		auto toInput = [&](const LevelMesh &lm) {
@@ -408,6 +415,8 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			for (size_t f = 0; f < full.faceCount; ++f)
 				if (red.reducedOf[f] >= 0 && size_t(red.reducedOf[f]) < lm.inputSuperface.size())
 					o.inputSuperface[f] = lm.inputSuperface[size_t(red.reducedOf[f])];
+			for (int32_t &v : o.sourceVertex)
+				v = red.vertexOf[size_t(v)];
 			for (int32_t &c : o.sourceCorner)
 				c = c >= 0 ? red.cornerOf[size_t(c)] : c;
 			for (int32_t &f : o.sourceFace)
@@ -439,9 +448,9 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 		});
 		const double setup = since(t0);
 		res.levels.reserve(size_t(params.maxLevel));
-		LevelMesh finer;     // the previous (finer) level
+		LevelMesh finer;                                   // the previous (finer) level
 		std::vector<std::pair<int32_t, Vec3>> finerPlaced; // its placed vertices: index, position
-		SplitCost finerCost; // (with the distance tolerance, see triangleShare)
+		SplitCost finerCost;         // (with the distance tolerance, see triangleShare)
 		ExactCarry carry, nextCarry; // (DESIGN 31: the finer level's exact superfaces)
 		const bool byFaces = !params.levelFaces.empty();
 		const bool byAngle = !byFaces && params.levelDistances.empty();
@@ -541,7 +550,8 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			// and input labels are only memory: they are rebuilt from the input and the partition,
 			// and the few placed vertices kept apart)
 			finerPlaced.clear();
-			for (size_t v = 0; finer.stats.placedVertices > 0 && v < finer.sourceVertex.size(); ++v) {
+			for (size_t v = 0; finer.stats.placedVertices > 0 && v < finer.sourceVertex.size();
+			     ++v) {
 				const Vec3 p(&finer.positions[3 * v]);
 				if (!(p == Vec3(&mesh.positions[3 * size_t(finer.sourceVertex[v])])))
 					finerPlaced.emplace_back(int32_t(v), p);

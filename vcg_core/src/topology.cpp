@@ -351,7 +351,8 @@ void buildFaceGrid(Topology &t)
 	    [&](auto emit) {
 		    g.big.clear();
 		    for (size_t f = 0; f < t.nF; ++f)
-			    if (t.faceValid[f] && !forFaceBuckets(t, f, [&](uint64_t c) { emit(c, int32_t(f)); }))
+			    if (t.faceValid[f] &&
+			        !forFaceBuckets(t, f, [&](uint64_t c) { emit(c, int32_t(f)); }))
 				    g.big.push_back(int32_t(f));
 	    },
 	    g.start, g.face);
@@ -431,8 +432,14 @@ size_t levelFaceBound(const Topology &t, const std::vector<uint8_t> &kept)
 	return faces > 0 ? size_t(faces) : 0;
 }
 
+void classifyTopology(Topology &t, double featureAngleDeg, size_t threads)
+{
+	classifyVertices(t, featureAngleDeg, threads);
+	surfaceEuler(t);
+}
+
 void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &t, size_t threads,
-                   bool withGrid)
+                   bool withGrid, bool withClasses)
 {
 	t.nV = mesh.vertexCount;
 	t.nF = mesh.faceCount;
@@ -448,8 +455,8 @@ void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &t, si
 	markDelimiters(mesh, t);
 	lockNonManifoldVertices(t, threads);
 	lockKeptFaces(t);
-	classifyVertices(t, featureAngleDeg, threads);
-	surfaceEuler(t);
+	if (withClasses)
+		classifyTopology(t, featureAngleDeg, threads);
 	if (withGrid)
 		buildFaceGrid(t);
 }
