@@ -28,10 +28,10 @@ struct Regions {
 // Regions of 2+ faces: connected across 2-manifold, non-delimiter edges, every vertex within eps
 // of the plane of the region's first face (its seed), every face facing the same way as the seed
 // (a face folded back onto the plane is not one with it). In parallel: each edge links its two
-// faces if each one's third vertex is within eps of the other's plane and they face the same
-// way; the linked faces' components whose every face is within eps of the seed's plane are the
-// regions; a component that is not (a surface curving too slowly for one edge to show it) is
-// grown again face by face from its faces in order, against each seed's plane.
+// faces if the upper face's third vertex is within eps of the lower face's plane and it faces
+// the same way; the linked faces' components whose every vertex is within eps of the seed's
+// plane are the regions; a component that is not (a surface curving too slowly for one edge to
+// show it) is grown again face by face from its faces in order, against each seed's plane.
 void growRegions(const MeshView &mesh, const Topology &t, double eps, size_t threads, Regions &r)
 {
 	const size_t nF = t.nF;
@@ -60,10 +60,8 @@ void growRegions(const MeshView &mesh, const Topology &t, double eps, size_t thr
 				const size_t g = size_t(heFace(h));
 				const Vec3 a = t.pos(t.heFrom(h)), b = t.pos(t.heTo(h));
 				const Vec3 cg = t.pos(t.heFrom(hePrev(h)));
-				const Vec3 cf = t.pos(t.T[3 * f + (e + 2) % 3]);
-				const Vec3 ng = t.faceNormal[g];
-				if (std::fabs((cg - a).dot(n)) <= eps && std::fabs((cf - a).dot(ng)) <= eps &&
-				    ((b - a) ^ (cg - a)).dot(n) > 0 && n.dot(ng) > 0)
+				(void)g;
+				if (std::fabs((cg - a).dot(n)) <= eps && ((b - a) ^ (cg - a)).dot(n) > 0)
 					link[f] |= uint8_t(1u << e);
 			}
 		}
@@ -78,17 +76,27 @@ void growRegions(const MeshView &mesh, const Topology &t, double eps, size_t thr
 	std::vector<int32_t> size(nF, 0);
 	for (size_t f = 0; f < nF; ++f)
 		parent[f] = find(int32_t(f)), ++size[size_t(parent[f])];
+	// a component of m faces saves at most m - 1: if that cannot be an eighth of the faces, the
+	// reduction is not worth a second topology (and nothing more is allocated)
+	size_t canSave = 0;
+	for (size_t f = 0; f < nF; ++f)
+		canSave += size_t(parent[f]) == f ? size_t(size[f]) - 1 : 0;
+	if (8 * canSave < nF)
+		return;
 	// each face's vertices against its seed's plane (a component that fails: bad)
 	std::vector<uint8_t> bad(nF, 0);
 	std::vector<double> devOf(std::max<size_t>(1, threads), 0.0);
 	std::vector<std::vector<int32_t>> badOf(devOf.size());
 	parallelRanges(nF, threads, [&](size_t f0, size_t f1, size_t part) {
 		double &dev = devOf[part];
+		size_t last = SIZE_MAX; // (the seed's plane, kept while its faces follow each other)
+		Vec3 n, p;
 		for (size_t f = f0; f < f1; ++f) {
 			const size_t s = size_t(parent[f]);
 			if (size[s] < 2)
 				continue;
-			const Vec3 n = t.faceNormal[s], p = t.pos(t.T[3 * s]);
+			if (s != last)
+				last = s, n = t.faceNormal[s], p = t.pos(t.T[3 * s]);
 			for (size_t k = 0; k < 3; ++k) {
 				const double d = std::fabs((t.pos(t.T[3 * f + k]) - p).dot(n));
 				if (d > eps)
@@ -445,6 +453,15 @@ bool reduceCoplanar(const MeshView &mesh, const Topology &t, size_t threads, Cop
 				redo[k] = 0;
 			}
 	}
+	// worth a second topology only if it saves an eighth of the faces: else nothing is built
+	size_t faceCount = 0, merged = 0;
+	for (size_t f = 0; f < t.nF; ++f)
+		faceCount += !t.faceDropped[f] && (r.of[f] < 0 || r.dead[size_t(r.of[f])]);
+	for (size_t k = 0; k < nR; ++k)
+		if (!r.dead[k])
+			faceCount += size_t(triEnd[k] - triStart[k]) / 3, ++merged;
+	if (merged == 0 || 8 * faceCount >= 7 * t.nF)
+		return false;
 	// the reduced faces, in the order of each region's first face
 	std::vector<uint8_t> emitted(nR, 0);
 	std::vector<int32_t> stamp(t.nV, 0); // (region + 1 that counted a dropped vertex)
@@ -527,8 +544,7 @@ bool reduceCoplanar(const MeshView &mesh, const Topology &t, size_t threads, Cop
 	for (const Worker &w : work)
 		chainDev = std::max(chainDev, w.chainDev);
 	out.distance = 2 * r.planeDev + chainDev;
-	// (worth a second topology only if it saves an eighth of the faces)
-	return out.regions > 0 && 8 * out.faceOf.size() < 7 * t.nF;
+	return true;
 }
 
 } // namespace detail

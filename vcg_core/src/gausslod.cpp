@@ -403,8 +403,10 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			reducedTopo.sampleWeight = std::move(red.weight);
 			reducedTopo.diagonal = diagonal; // (the input's: every tolerance is a fraction of it)
 		}
-		if (!reduced)
+		if (!reduced) {
+			red = CoplanarReduction(); // (its memory: nothing to map)
 			classifyTopology(*inputTopo, params.featureAngle, threads);
+		}
 		Topology &topo = reduced ? reducedTopo : *inputTopo;
 		// a level as the caller sees it: on the input's faces and corners
 		auto toInput = [&](const LevelMesh &lm) {
