@@ -369,7 +369,12 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 		std::vector<uint32_t> redFaceKey, redCornerKey;
 		std::vector<uint8_t> redKeep;
 		Topology reducedTopo;
-		const bool reduced = params.coplanarFirst && reduceCoplanar(mesh, *inputTopo, threads, red);
+		// (levels by error promise each level's proven distance within its target: a reduction
+		// that moves the surface at all, by float rounding, is not taken there)
+		const bool byError = !params.levelDistances.empty() && params.levelFaces.empty();
+		const bool reduced = params.coplanarFirst &&
+		                     reduceCoplanar(mesh, *inputTopo, threads, red) &&
+		                     !(byError && red.distance > 0);
 		if (reduced) {
 			const size_t nR = red.faceOf.size();
 			mesh.positions = red.positions.data();
