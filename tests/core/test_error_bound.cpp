@@ -14,7 +14,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <random>
 
 using namespace gausslod;
@@ -267,44 +266,6 @@ TEST(ErrorBound, is_zero_for_an_exact_planar_level)
 		EXPECT_LT(lm.stats.distanceBound, 1e-9 * diag) << "LOD" << lm.stats.level;
 	}
 }
-
-namespace {
-
-// Each triangle split in 4 at its edge midpoints (shared between the triangles of an edge): the
-// same surface, every input triangle now 4 coplanar faces. `toFloat`: coordinates rounded to
-// 32-bit floats, as a PLY or STL file of floats holds them (the 4 are then coplanar only within
-// the floats' rounding).
-FlatMesh midpointSplit(const FlatMesh &m, bool toFloat)
-{
-	FlatMesh o;
-	o.positions = m.positions;
-	std::map<std::pair<int32_t, int32_t>, int32_t> mid;
-	auto midpoint = [&](int32_t a, int32_t b) {
-		const auto key = std::make_pair(std::min(a, b), std::max(a, b));
-		auto it = mid.find(key);
-		if (it != mid.end())
-			return it->second;
-		const int32_t id = int32_t(o.positions.size() / 3);
-		for (int k = 0; k < 3; ++k)
-			o.positions.push_back(0.5 * (m.positions[3 * size_t(a) + size_t(k)] +
-			                             m.positions[3 * size_t(b) + size_t(k)]));
-		mid.emplace(key, id);
-		return id;
-	};
-	for (size_t f = 0; f < m.triangles.size() / 3; ++f) {
-		const int32_t a = m.triangles[3 * f], b = m.triangles[3 * f + 1],
-		              c = m.triangles[3 * f + 2];
-		const int32_t ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
-		for (const int32_t t : {a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca})
-			o.triangles.push_back(t);
-	}
-	if (toFloat)
-		for (double &x : o.positions)
-			x = double(float(x));
-	return o;
-}
-
-} // namespace
 
 // DESIGN 41: the mesh the levels are built on (coplanar regions re-triangulated first) is the
 // input's surface: within the distance the reduction reports, both ways, with the input's

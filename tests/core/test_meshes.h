@@ -22,7 +22,8 @@ namespace testmesh {
 
 class TVertex;
 class TFace;
-struct TUsedTypes : public vcg::UsedTypes<vcg::Use<TVertex>::AsVertexType, vcg::Use<TFace>::AsFaceType> {};
+struct TUsedTypes
+    : public vcg::UsedTypes<vcg::Use<TVertex>::AsVertexType, vcg::Use<TFace>::AsFaceType> {};
 class TVertex : public vcg::Vertex<TUsedTypes, vcg::vertex::Coord3d, vcg::vertex::Normal3d,
                                    vcg::vertex::BitFlags> {};
 class TFace : public vcg::Face<TUsedTypes, vcg::face::VertexRef, vcg::face::Normal3d,
@@ -48,7 +49,10 @@ inline gausslod::Params paperParams()
 	return p;
 }
 
-inline std::string dataFile(const std::string &name) { return std::string(GAUSSLOD_DATA) + "/" + name; }
+inline std::string dataFile(const std::string &name)
+{
+	return std::string(GAUSSLOD_DATA) + "/" + name;
+}
 
 inline gausslod::FlatMesh loadOff(const std::string &name)
 {
@@ -121,6 +125,38 @@ inline gausslod::FlatMesh gridCube(int n, double size = 1.0, double noise = 0.0,
 	return m;
 }
 
+/// Each triangle of m split into 4 at its edge midpoints (shared by the edge's two triangles): the
+/// same surface with 4 times the faces, every input triangle now 4 coplanar ones. `toFloat`:
+/// coordinates rounded to 32-bit floats, as a PLY or STL file of floats holds them (the 4 are
+/// then coplanar only within the floats' rounding).
+inline gausslod::FlatMesh midpointSplit(const gausslod::FlatMesh &m, bool toFloat = false)
+{
+	gausslod::FlatMesh out;
+	out.positions = m.positions;
+	std::map<std::pair<int32_t, int32_t>, int32_t> mid;
+	auto midpoint = [&](int32_t a, int32_t b) {
+		const auto key = std::make_pair(std::min(a, b), std::max(a, b));
+		const auto it = mid.find(key);
+		if (it != mid.end())
+			return it->second;
+		const int32_t id = int32_t(out.positions.size() / 3);
+		for (int k = 0; k < 3; ++k)
+			out.positions.push_back(0.5 * (m.positions[3 * size_t(a) + size_t(k)] +
+			                               m.positions[3 * size_t(b) + size_t(k)]));
+		mid.emplace(key, id);
+		return id;
+	};
+	for (size_t f = 0; f < m.triangles.size(); f += 3) {
+		const int32_t a = m.triangles[f], b = m.triangles[f + 1], c = m.triangles[f + 2];
+		const int32_t ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+		out.triangles.insert(out.triangles.end(), {a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca});
+	}
+	if (toFloat)
+		for (double &x : out.positions)
+			x = double(float(x));
+	return out;
+}
+
 /// Planar n x n grid in z=0 over [0,1]^2 with the square [lo,hi]^2 cut out.
 inline gausslod::FlatMesh gridWithHole(int n, int lo, int hi)
 {
@@ -136,7 +172,7 @@ inline gausslod::FlatMesh gridWithHole(int n, int lo, int hi)
 		for (int x = 0; x < n; ++x) {
 			if (x >= lo && x < hi && y >= lo && y < hi)
 				continue;
-			const int32_t t[6] = {id(x, y), id(x + 1, y), id(x + 1, y + 1),
+			const int32_t t[6] = {id(x, y), id(x + 1, y),     id(x + 1, y + 1),
 			                      id(x, y), id(x + 1, y + 1), id(x, y + 1)};
 			m.triangles.insert(m.triangles.end(), t, t + 6);
 		}
@@ -145,7 +181,10 @@ inline gausslod::FlatMesh gridWithHole(int n, int lo, int hi)
 
 using Vec3 = vcg::Point3d;
 
-inline Vec3 vpos(const std::vector<double> &P, int32_t v) { return Vec3(P[3 * v], P[3 * v + 1], P[3 * v + 2]); }
+inline Vec3 vpos(const std::vector<double> &P, int32_t v)
+{
+	return Vec3(P[3 * v], P[3 * v + 1], P[3 * v + 2]);
+}
 
 /// Topological facts of a triangle mesh given as flat arrays.
 struct TopoFacts {
@@ -184,7 +223,8 @@ inline TopoFacts topoFacts(const std::vector<double> &P, const std::vector<int32
 			++r.degenerateFaces;
 		// same face, same orientation (a reversed copy makes a two-sided sheet: not a duplicate)
 		const int m = a < b ? (a < c ? 0 : 2) : (b < c ? 1 : 2);
-		const std::array<int32_t, 3> key = {T[3 * f + m], T[3 * f + (m + 1) % 3], T[3 * f + (m + 2) % 3]};
+		const std::array<int32_t, 3> key = {T[3 * f + m], T[3 * f + (m + 1) % 3],
+		                                    T[3 * f + (m + 2) % 3]};
 		if (!faces.insert(key).second)
 			++r.duplicateFaces;
 		for (int k = 0; k < 3; ++k) {
@@ -310,7 +350,8 @@ inline size_t flippedFaces(const gausslod::FlatMesh &input, const gausslod::Leve
 /// Output faces whose normal points away (>90 deg) from the nearest input face, over all input
 /// faces (brute force; ties between faces at the same distance count as facing if any of them
 /// faces the output face), as the benchmark measures "flipped".
-inline size_t facesAwayFromNearestInput(const gausslod::FlatMesh &input, const gausslod::LevelMesh &level)
+inline size_t facesAwayFromNearestInput(const gausslod::FlatMesh &input,
+                                        const gausslod::LevelMesh &level)
 {
 	size_t flipped = 0;
 	const size_t nIn = input.triangles.size() / 3;
@@ -321,7 +362,8 @@ inline size_t facesAwayFromNearestInput(const gausslod::FlatMesh &input, const g
 		const Vec3 p1 = vpos(input.positions, input.triangles[3 * f + 1]);
 		const Vec3 p2 = vpos(input.positions, input.triangles[3 * f + 2]);
 		center[f] = (p0 + p1 + p2) / 3.0;
-		radius[f] = std::max((p0 - center[f]).Norm(), std::max((p1 - center[f]).Norm(), (p2 - center[f]).Norm()));
+		radius[f] = std::max((p0 - center[f]).Norm(),
+		                     std::max((p1 - center[f]).Norm(), (p2 - center[f]).Norm()));
 	}
 	for (size_t t = 0; t < level.triangles.size() / 3; ++t) {
 		const Vec3 a = vpos(level.positions, level.triangles[3 * t]);
