@@ -57,10 +57,8 @@ void growRegions(const MeshView &mesh, const Topology &t, double eps, size_t thr
 				const int32_t h = t.joinTwin(3 * f + e);
 				if (h < 0 || size_t(heFace(h)) < f || !eligible(size_t(heFace(h))))
 					continue; // (each edge once, from its lower face)
-				const size_t g = size_t(heFace(h));
 				const Vec3 a = t.pos(t.heFrom(h)), b = t.pos(t.heTo(h));
 				const Vec3 cg = t.pos(t.heFrom(hePrev(h)));
-				(void)g;
 				if (std::fabs((cg - a).dot(n)) <= eps && ((b - a) ^ (cg - a)).dot(n) > 0)
 					link[f] |= uint8_t(1u << e);
 			}
@@ -90,7 +88,7 @@ void growRegions(const MeshView &mesh, const Topology &t, double eps, size_t thr
 	parallelRanges(nF, threads, [&](size_t f0, size_t f1, size_t part) {
 		double &dev = devOf[part];
 		size_t last = SIZE_MAX; // (the seed's plane, kept while its faces follow each other)
-		Vec3 n, p;
+		Vec3 n(0, 0, 0), p(0, 0, 0);
 		for (size_t f = f0; f < f1; ++f) {
 			const size_t s = size_t(parent[f]);
 			if (size[s] < 2)
@@ -106,9 +104,10 @@ void growRegions(const MeshView &mesh, const Topology &t, double eps, size_t thr
 			}
 		}
 	});
+	bool anyBad = false;
 	for (const std::vector<int32_t> &b : badOf)
 		for (const int32_t root : b)
-			bad[size_t(root)] = 1;
+			bad[size_t(root)] = 1, anyBad = true;
 	// the regions, in the order of their seeds; a bad component grown again face by face
 	r.of.assign(nF, -1);
 	std::vector<int32_t> stack;
@@ -162,12 +161,8 @@ void growRegions(const MeshView &mesh, const Topology &t, double eps, size_t thr
 	}
 	for (const double d : devOf)
 		r.planeDev = std::max(r.planeDev, d);
-	// (a bad component's faces grown again are within eps of their seeds' planes: eps bounds)
-	for (size_t f = 0; f < nF; ++f)
-		if (size[size_t(parent[f])] >= 2 && bad[size_t(parent[f])]) {
-			r.planeDev = std::max(r.planeDev, eps);
-			break;
-		}
+	if (anyBad) // (a bad component's faces grown again are within eps of their seeds' planes)
+		r.planeDev = std::max(r.planeDev, eps);
 	r.dead.assign(r.seed.size(), 0);
 }
 
@@ -242,7 +237,7 @@ bool regionRings(const Topology &t, const Regions &r, int32_t reg, const int32_t
                  const std::vector<uint8_t> &forced, std::vector<int32_t> &forcedList,
                  size_t &forcedCount, double &chainDev, std::vector<uint8_t> &heSeen,
                  std::vector<int32_t> &ringVerts, std::vector<int32_t> &ringStart,
-                 std::vector<int32_t> &touched)
+                 std::vector<int32_t> &touched, std::vector<int32_t> &sorted)
 {
 	auto inside = [&](int32_t h) {
 		const int32_t tw = t.joinTwin(size_t(h));
@@ -311,7 +306,7 @@ bool regionRings(const Topology &t, const Regions &r, int32_t reg, const int32_t
 		}
 	// a vertex twice in the rings: a pinch (the triangulation would need it once)
 	if (ok) {
-		std::vector<int32_t> sorted(ringVerts);
+		sorted.assign(ringVerts.begin(), ringVerts.end());
 		std::sort(sorted.begin(), sorted.end());
 		ok = std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
 	}
@@ -376,7 +371,7 @@ bool reduceCoplanar(const MeshView &mesh, const Topology &t, size_t threads, Cop
 	std::vector<uint8_t> triWorker(nR, 0);
 	const size_t workers = std::max<size_t>(1, std::min(threads, nR / 64 + 1));
 	struct Worker {
-		std::vector<int32_t> tris, ringVerts, ringStart, touched, forcedList;
+		std::vector<int32_t> tris, ringVerts, ringStart, touched, forcedList, sorted;
 		TriangulationJob job;
 		size_t forced = 0;
 		double chainDev = 0; ///< the largest distance of a dropped chain vertex from its segment
@@ -403,17 +398,16 @@ bool reduceCoplanar(const MeshView &mesh, const Topology &t, size_t threads, Cop
 				if (!redo[k] || r.dead[k])
 					continue;
 				const size_t forcedBefore = w.forced;
-				bool ok =
-				    regionRings(t, r, int32_t(k), &faces[size_t(start[k])],
-				                size_t(start[k + 1] - start[k]), keep, eps, forced, w.forcedList,
-				                w.forced, w.chainDev, heSeen, w.ringVerts, w.ringStart, w.touched);
+				bool ok = regionRings(t, r, int32_t(k), &faces[size_t(start[k])],
+				                      size_t(start[k + 1] - start[k]), keep, eps, forced,
+				                      w.forcedList, w.forced, w.chainDev, heSeen, w.ringVerts,
+				                      w.ringStart, w.touched, w.sorted);
 				for (const int32_t h : w.touched)
 					heSeen[size_t(h)] = 0;
 				w.touched.clear();
 				if (ok) {
 					const Vec3 N = t.faceNormal[size_t(r.seed[k])];
-					const Vec3 U =
-					    (std::fabs(N[0]) < 0.9 ? N ^ Vec3(1, 0, 0) : N ^ Vec3(0, 1, 0)).Normalize();
+					const Vec3 U = planeAxis(N);
 					const Vec3 V = N ^ U;
 					const Vec3 o = t.pos(w.ringVerts[0]);
 					w.job.xy.clear();

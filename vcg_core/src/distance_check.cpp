@@ -221,7 +221,7 @@ double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, siz
 	const Topology &t = in.t;
 	const size_t ntri = o.tris.size() / 3 - firstTri;
 	const int32_t *tri = &o.tris[3 * firstTri];
-	const Vec3 U = (std::fabs(N[0]) < 0.9 ? N ^ Vec3(1, 0, 0) : N ^ Vec3(0, 1, 0)).Normalize();
+	const Vec3 U = planeAxis(N);
 	const Vec3 V = N ^ U;
 	const Vec3 origin = in.out(tri[0]);
 	auto project = [&](const Vec3 &p, double *xy) {

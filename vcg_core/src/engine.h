@@ -122,6 +122,12 @@ inline double angleDegOfCos(double cosine)
 inline double angleDeg(const Vec3 &a, const Vec3 &b) { return angleDegOfCos(a.dot(b)); }
 
 /// Distance from p to the segment a-b.
+/// A unit axis of the plane orthogonal to unit N (the projections' U; V = N ^ U).
+inline Vec3 planeAxis(const Vec3 &N)
+{
+	return (std::fabs(N[0]) < 0.9 ? N ^ Vec3(1, 0, 0) : N ^ Vec3(0, 1, 0)).Normalize();
+}
+
 inline double pointSegmentDistance(const Vec3 &p, const Vec3 &a, const Vec3 &b)
 {
 	const Vec3 ab = b - a;
@@ -167,7 +173,8 @@ struct FaceGrid {
 	template <class Fn>
 	void forBox(const Vec3 &a, const Vec3 &b, Fn fn) const
 	{
-		forBuckets(a, b, [](uint64_t) { return false; }, fn);
+		forBuckets(
+		    a, b, [](uint64_t) { return false; }, fn);
 	}
 
 	/// forBox, but with a unit direction `t`: only the buckets that may hold a face whose normal
@@ -177,7 +184,8 @@ struct FaceGrid {
 	void forBoxFacingAway(const Vec3 &a, const Vec3 &b, const Vec3 &t, const Normals &normals,
 	                      Fn fn) const
 	{
-		forBuckets(a, b, [&](uint64_t c) { return allFacing(coneOf(c, normals), t); }, fn);
+		forBuckets(
+		    a, b, [&](uint64_t c) { return allFacing(coneOf(c, normals), t); }, fn);
 	}
 
 	/// forBox, skipping the buckets c with skip(c).
@@ -469,7 +477,7 @@ struct CoplanarReduction {
 	                                ///< regions; in a region, its faces and dropped vertices, by
 	                                ///< the face's share of its area)
 	size_t regions = 0;             ///< regions of 2+ faces re-triangulated
-	double eps = 0;      ///< the tolerance of "one plane" and "one line"
+	double eps = 0;                 ///< the tolerance of "one plane" and "one line"
 	double distance = 0; ///< the reduced surface is within this of the input (at most 3 eps):
 	                     ///< twice the largest distance of a region's vertex from its plane, plus
 	                     ///< the largest of a dropped chain vertex from its segment
@@ -504,8 +512,9 @@ std::vector<std::pair<int32_t, int32_t>> superfacePairs(const std::vector<int32_
 /// untouched. It needs `fine`'s nodes (mergeAcrossCells) if boundDeg >= 0, and refuses where
 /// coarserPartition could group two adjacent superfaces (siblings, or cells that touch) or
 /// mergeAcrossCells could try a pair.
-bool sameCoarserPartition(const Partition &fine, const std::vector<std::pair<int32_t, int32_t>> &adjacent,
-                          double boundDeg, Partition &out);
+bool sameCoarserPartition(const Partition &fine,
+                          const std::vector<std::pair<int32_t, int32_t>> &adjacent, double boundDeg,
+                          Partition &out);
 
 /// 2.2.2-2.4 for one level: borders, straightening, vicinity merging, re-triangulation; splits
 /// superfaces that cannot be re-triangulated validly into their finer children (`finer[k]` is the
@@ -558,7 +567,7 @@ struct TriangulationJob {
 	/// per point, or empty if every point is its own vertex: the earlier point that is the same
 	/// vertex (a superface whose border touches itself at a vertex), else -1
 	std::vector<int32_t> same;
-	std::vector<double> queryXY;    ///< points to locate in the result (2 per query)
+	std::vector<double> queryXY; ///< points to locate in the result (2 per query)
 	// out
 	std::vector<int32_t> tris;        ///< 3 local ring-vertex indices per triangle, CCW
 	std::vector<uint8_t> constrained; ///< per triangle: bit k = edge (k,k+1) is a ring edge

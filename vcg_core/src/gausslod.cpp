@@ -416,8 +416,6 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 		// a level as the caller sees it: on the input's faces and corners
 		auto toInput = [&](const LevelMesh &lm) {
 			LevelMesh o = lm;
-			if (!reduced)
-				return o;
 			o.inputSuperface.assign(full.faceCount, -1);
 			for (size_t f = 0; f < full.faceCount; ++f)
 				if (red.reducedOf[f] >= 0 && size_t(red.reducedOf[f]) < lm.inputSuperface.size())
@@ -544,13 +542,17 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 				                " lost the surface of " + std::to_string(lost) +
 				                " input faces (no output triangle for their superface)");
 			const bool wanted = params.outputLevels & (1u << level);
-			if (wanted && sink && !sink(toInput(lm)))
+			LevelMesh mapped; // (the level on the input's faces, if it was built on fewer)
+			if (wanted && reduced)
+				mapped = toInput(lm);
+			const LevelMesh &given = wanted && reduced ? mapped : lm;
+			if (wanted && sink && !sink(given))
 				return fail(res, ErrorKind::Cancelled, "cancelled");
 			if (wanted && !sink) {
-				res.levels.push_back(toInput(lm));
+				res.levels.push_back(given);
 			} else if (wanted) {
 				res.levels.emplace_back();
-				res.levels.back().stats = lm.stats;
+				res.levels.back().stats = given.stats;
 			}
 			finer = std::move(lm);
 			// (kept for a coarser level that comes out with more faces; until then its positions

@@ -93,7 +93,7 @@ void projectSuperface(const TriangulationInput &in, int32_t s, const Vec3 &N, Sc
 {
 	const Topology &t = in.t;
 	const int32_t fb = in.faces.begin(s), fe = in.faces.end(s);
-	const Vec3 U = (std::fabs(N[0]) < 0.9 ? N ^ Vec3(1, 0, 0) : N ^ Vec3(0, 1, 0)).Normalize();
+	const Vec3 U = planeAxis(N);
 	const Vec3 V = N ^ U;
 	const Vec3 origin = t.pos(w.ringVerts[0]);
 	auto project = [&](const Vec3 &p, double *xy) {
