@@ -78,10 +78,16 @@ bool readInputMesh(const std::string &path, const gausslod::Params &p, InputMesh
 	bool withAttributes = false;
 	{ // the lean mesh is freed once flattened (the engine works on the flat arrays)
 		gausslod::IoMesh lean;
+		gausslod::detail::FlatRead flat; // (a plain binary PLY: read without a VCG mesh)
 		if (!gausslod::importMeshEither(lean, *full, withAttributes, path, kAttributeMask, error,
-		                                &info))
+		                                &info, &flat))
 			return false;
 		in.normals = (info.mask & Mask::IOM_VERTNORMAL) != 0;
+		if (flat.used) {
+			in.flat.positions = std::move(flat.positions);
+			in.flat.triangles = std::move(flat.triangles);
+			return true;
+		}
 		if (!withAttributes) {
 			in.flat = gausslod::flatten(lean);
 			return true;

@@ -1492,6 +1492,54 @@ bool checkFile(const std::string &path, double vb, double fb, CheckedFile &c, Re
 	return true;
 }
 
+/// Positions and triangles as the engine takes them (gausslod::FlatMesh's), read without a VCG
+/// mesh (importMeshEither, `flat`).
+struct FlatRead {
+	bool used = false; ///< the file was read here (else into a VCG mesh)
+	std::vector<double> positions;
+	std::vector<int32_t> triangles;
+};
+
+/// A file of the fast path's layout (c.ply.ok) straight into flat arrays: the positions and
+/// triangles gausslod::flatten makes of the mesh readChecked builds from it (same values, same
+/// order, same errors), without that mesh and its copy.
+inline bool readSimplePlyFlat(CheckedFile &c, FlatRead &out, ReadError &e, ReadInfo *info)
+{
+	const SimplePly &sp = c.ply;
+	File file(c.vcgPath);
+	auto changed = [&] { return corrupt(e, "PLY: the file changed while it was read"); };
+	if (!file.f || std::fseek(file.f, long(sp.offset), SEEK_SET) != 0)
+		return changed();
+	out.positions.resize(3 * sp.vertices);
+	out.triangles.resize(3 * sp.faces);
+	std::vector<unsigned char> buf(kPlyVertexBytes * std::min(sp.vertices, kPlyBatch));
+	double *p = out.positions.data();
+	for (size_t done = 0; done < sp.vertices;) {
+		const size_t n = std::min(sp.vertices - done, kPlyBatch);
+		if (std::fread(buf.data(), kPlyVertexBytes, n, file.f) != n)
+			return changed();
+		for (size_t i = 0; i < 3 * n; ++i, ++p) {
+			float x;
+			std::memcpy(&x, &buf[4 * i], 4); // (the records are three floats each, packed)
+			*p = double(x);
+		}
+		done += n;
+	}
+	int32_t *t = out.triangles.data();
+	if (!readPlyTriangles(file.f, sp, buf,
+	                      [&](size_t face, int k, uint32_t v) { t[3 * face + size_t(k)] = int32_t(v); }))
+		return changed();
+	out.used = true;
+	if (info) {
+		info->fastPly = true;
+		info->fileMask = c.facts.mask;
+		info->mask = 0; // (as readChecked's)
+	}
+	if (sp.vertices == 0 && sp.faces == 0)
+		return fail(e, ReadStatus::Empty, "the file holds no vertex and no face");
+	return true;
+}
+
 /// VCG's importer on a file checkFile() passed; `info` (optional) gets the load mask and an OBJ's
 /// materials.
 template <class MeshT>
@@ -1660,17 +1708,24 @@ bool importMesh(MeshT &m, const std::string &path, ReadError &error, ReadInfo *i
 /// importMesh into `lean`, or into `full` when the file carries any attribute of `wantMask`
 /// (vcg::tri::io::Mask bits, known once the guards have read the header or the lines): the
 /// richer mesh type costs only the files that need it. `usedFull` says which mesh holds it.
+/// With `flat`, a binary PLY of the fast path's layout is read into it instead (flat->used),
+/// as gausslod::flatten would copy it out of `lean`.
 template <class LeanT, class FullT>
 bool importMeshEither(LeanT &lean, FullT &full, bool &usedFull, const std::string &path,
-                      int wantMask, ReadError &error, ReadInfo *info = nullptr)
+                      int wantMask, ReadError &error, ReadInfo *info = nullptr,
+                      detail::FlatRead *flat = nullptr)
 {
 	usedFull = false;
+	if (flat)
+		*flat = detail::FlatRead();
 	return detail::guarded(error, [&] {
 		using V = typename LeanT::VertexType;
 		using F = typename LeanT::FaceType;
 		detail::CheckedFile c;
 		if (!detail::checkFile<LeanT>(path, sizeof(V), sizeof(F), c, error))
 			return false;
+		if (flat && c.format == detail::Format::Ply && c.ply.ok) // (no attribute in that layout)
+			return detail::readSimplePlyFlat(c, *flat, error, info);
 		if (!(c.facts.mask & wantMask))
 			return detail::readChecked(lean, c, error, info);
 		using FV = typename FullT::VertexType;

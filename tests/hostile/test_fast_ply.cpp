@@ -6,11 +6,13 @@
 // mesh types: as the tool reads it, and with the fast path off. Both must succeed or fail alike
 // (same status and message) and build the same mesh bit for bit: counts, every vertex's position
 // bits and flags, every face's vertex indices and flags, the load masks, texture names, bounding
-// box. At least MIN_FAST files must have taken the fast path (else it would test nothing). The
+// box. The tool's read (importMeshEither with flat arrays, which skips the VCG mesh for the fast
+// path's files) must give the arrays gausslod::flatten makes of VCG's read. At least MIN_FAST files must have taken the fast path (else it would test nothing). The
 // largest of those models is also written in variants of the layout (uint indices, the name
 // vertex_index, type aliases, CRLF header lines, trailing bytes, no faces) that must take the
 // fast path, and variants that must not (a quad in the last batch, an index out of range, a
 // short body, a face count larger than the file, a TextureFile comment, big endian).
+#include "gausslod/vcg_adapter.h"
 #include "gausslod_io/import_mesh.h"
 
 #include <wrap/io_trimesh/export_ply.h>
@@ -124,6 +126,37 @@ std::string compare(const std::string &path, bool &tookFast)
 		return "texture names";
 	if (!sameBits(a.bbox.min, b.bbox.min) || !sameBits(a.bbox.max, b.bbox.max))
 		return "bounding box";
+	return "";
+}
+
+// "" if the tool's read of `path` (importMeshEither with flat arrays: the fast path's files are read
+// without a VCG mesh) gives the flat arrays gausslod::flatten makes of VCG's own read, and fails
+// alike; `tookFlat`: it read the file into the flat arrays.
+std::string compareFlat(const std::string &path, bool &tookFlat)
+{
+	gausslod::IoMesh lean, vcgRead;
+	gausslod::IoAttrMesh full;
+	Read ra;
+	bool usedFull = false;
+	gausslod::detail::FlatRead flat;
+	ra.ok = gausslod::importMeshEither(lean, full, usedFull, path, ~0, ra.error, &ra.info, &flat);
+	tookFlat = flat.used;
+	const Read rb = readWith(vcgRead, path, false);
+	if (ra.ok != rb.ok || ra.error.status != rb.error.status ||
+	    ra.error.message != rb.error.message)
+		return "flat result: " + std::string(ra.ok ? "ok" : ra.error.message) + ", VCG " +
+		       (rb.ok ? "ok" : rb.error.message);
+	if (!ra.ok || !flat.used)
+		return "";
+	if (ra.info.mask != rb.info.mask || ra.info.fileMask != rb.info.fileMask)
+		return "flat load masks";
+	const gausslod::FlatMesh want = gausslod::flatten(vcgRead);
+	if (flat.positions.size() != want.positions.size() ||
+	    std::memcmp(flat.positions.data(), want.positions.data(),
+	                want.positions.size() * sizeof(double)) != 0)
+		return "flat positions";
+	if (flat.triangles != want.triangles)
+		return "flat triangles";
 	return "";
 }
 
@@ -243,7 +276,7 @@ int main(int argc, char **argv)
 		}
 		plys.push_back(path);
 	}
-	int fast = 0;
+	int fast = 0, flatReads = 0;
 	for (const std::string &p : plys) {
 		bool lean = false, full = false;
 		const std::string d1 = compare<gausslod::IoMesh>(p, lean);
@@ -253,12 +286,22 @@ int main(int argc, char **argv)
 			            lean != full ? "fast path taken for one mesh type only" : d2.c_str());
 			++failed;
 		}
+		bool flat = false;
+		const std::string d3 = compareFlat(p, flat);
+		if (!d3.empty() || flat != lean) {
+			std::printf("FAIL %s: %s\n", p.c_str(),
+			            d3.empty() ? "flat arrays read where the fast path was not, or not where it was"
+			                       : d3.c_str());
+			++failed;
+		}
 		fast += lean;
+		flatReads += flat;
 	}
 	std::printf("%zu PLY files (%zu written by VCG's exporter from Debian's models, %zu variants of "
-	            "one with %zu faces): %d read by the fast path, %d failed\n",
+	            "one with %zu faces): %d read by the fast path (%d of them also straight into flat arrays), "
+	            "%d failed\n",
 	            plys.size(), exported, sizeof variants / sizeof variants[0],
-	            largest.face.size(), fast, failed);
+	            largest.face.size(), fast, flatReads, failed);
 	if (fast < minFast) {
 		std::printf("FAIL: only %d files took the fast path (wanted at least %d)\n", fast, minFast);
 		return 1;
