@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <random>
 
 using namespace gausslod;
@@ -86,6 +87,63 @@ TEST(InputRepair, a_triangle_soup_gives_the_levels_of_its_welded_mesh)
 		}
 		// and the coarsest level is far below the input (the soup is simplified)
 		EXPECT_LT(a.levels.back().stats.faces, soup.triangles.size() / 3 * 2 / 3);
+	}
+}
+
+// The engine drops the vertices it welds away when they are many (DESIGN 44): a level's output
+// vertices must still name input vertices, the first of the soup at their position (the one the
+// others were welded into), also when the levels are built on the coplanar-reduced mesh.
+TEST(InputRepair, a_soup_s_levels_name_its_first_vertex_at_each_position)
+{
+	struct Case {
+		const char *name;
+		FlatMesh clean;
+		Params params;
+	};
+	Params planar = exactParams(); // (the grid cube: reduced to 12 faces before the levels)
+	const Case cases[] = {{"cow", loadOff("cow.off"), Params()},
+	                      {"fandisk placed", loadOff("fandisk.off"), Params()},
+	                      {"grid cube", gridCube(12), planar}};
+	for (const Case &c : cases) {
+		SCOPED_TRACE(c.name);
+		const FlatMesh soup = soupOf(c.clean);
+		std::map<std::array<double, 3>, int32_t> first; // position -> first soup vertex there
+		for (size_t v = 0; v < soup.positions.size() / 3; ++v)
+			first.emplace(std::array<double, 3>{soup.positions[3 * v], soup.positions[3 * v + 1],
+			                                    soup.positions[3 * v + 2]},
+			              int32_t(v));
+		const FlatMesh welded = compactWelded(soup);
+		const Result a = buildLevels(soup.view(), c.params);
+		const Result b = buildLevels(welded.view(), c.params);
+		ASSERT_TRUE(a.ok) << a.error;
+		ASSERT_TRUE(b.ok) << b.error;
+		ASSERT_GT(a.input.weldedVertices, soup.positions.size() / 3 / 2); // (dropped: 5 of 6)
+		if (c.clean.triangles.size() / 3 == 12 * 12 * 12) // (the grid cube: 6 sides of 2 n^2)
+			EXPECT_EQ(a.input.facesAfterCoplanar, 12u); // (built on the reduced mesh)
+		ASSERT_EQ(a.levels.size(), b.levels.size());
+		size_t named = 0;
+		for (size_t i = 0; i < a.levels.size(); ++i) {
+			const LevelMesh &la = a.levels[i], &lb = b.levels[i];
+			SCOPED_TRACE("level " + std::to_string(la.stats.level));
+			EXPECT_EQ(la.positions, lb.positions); // (the same levels, placed vertices too)
+			EXPECT_EQ(la.triangles, lb.triangles);
+			ASSERT_EQ(la.sourceVertex.size(), lb.sourceVertex.size());
+			for (size_t v = 0; v < la.sourceVertex.size(); ++v) {
+				const int32_t s = la.sourceVertex[v];
+				ASSERT_GE(s, 0);
+				ASSERT_LT(size_t(s), soup.positions.size() / 3);
+				const std::array<double, 3> at{soup.positions[3 * size_t(s)],
+				                               soup.positions[3 * size_t(s) + 1],
+				                               soup.positions[3 * size_t(s) + 2]};
+				EXPECT_EQ(first.at(at), s);
+				// the welded mesh's source vertex is at the same input position
+				for (int k = 0; k < 3; ++k)
+					EXPECT_EQ(welded.positions[3 * size_t(lb.sourceVertex[v]) + size_t(k)],
+					          at[size_t(k)]);
+				++named;
+			}
+		}
+		EXPECT_GT(named, 0u);
 	}
 }
 

@@ -445,8 +445,9 @@ size_t weldVertices(const MeshView &mesh, double distance, std::vector<int32_t> 
 /// withGrid = false leaves topo.grid to buildFaceGrid (which only writes topo.grid: it may run
 /// on another thread while the partition is built).
 /// withClasses = false leaves the vertex classes and Topology::euler to classifyTopology.
+/// diagonal >= 0: topo.diagonal (else the bounding box diagonal of the mesh's vertices).
 void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &topo, size_t threads = 1,
-                   bool withGrid = true, bool withClasses = true);
+                   bool withGrid = true, bool withClasses = true, double diagonal = -1);
 void classifyTopology(Topology &topo, double featureAngleDeg, size_t threads);
 /// topo.grid over the valid faces (see FaceGrid; the buckets' cones are left to its coneOf);
 /// needs the faces' validity.

@@ -104,34 +104,67 @@ bool fail(Result &res, ErrorKind kind, std::string error)
 	return false;
 }
 
-// Welds the input (Params::weldVertices): `mesh` then refers to `welded`, the repaired triangles.
-void weldInput(const MeshView &input, const Params &params, MeshView &mesh,
-               std::vector<int32_t> &welded, InputStats &stats)
+// The input as the levels see it: welded (Params::weldVertices), and without the vertices welded
+// away when they are many (an STL soup has 6 corners per vertex: the levels' per-vertex arrays
+// would be 6 times as long). `mesh` then refers to `triangles` and `positions`; `inputVertex` is
+// each vertex's index in the input (empty: the input's vertices as they are). Dropping them
+// changes no position in use and no order among the rest; the diagonal is the input's (`diagonal`).
+struct WeldedInput {
+	std::vector<int32_t> triangles;  ///< on the welded vertices (empty: nothing welded)
+	std::vector<double> positions;   ///< the kept vertices (with inputVertex only)
+	std::vector<int32_t> inputVertex; ///< input index per kept vertex (empty: all kept)
+	double diagonal = 0;             ///< the input's bounding box diagonal
+};
+
+// A vertex array is compacted when at least this share of it was welded away.
+constexpr double kCompactWelded = 0.125;
+
+void weldInput(const MeshView &input, const Params &params, MeshView &mesh, WeldedInput &w,
+               InputStats &stats)
 {
 	mesh = input;
+	w.diagonal = bboxDiagonal(input);
 	if (!params.weldVertices)
 		return;
 	std::vector<int32_t> rep;
-	stats.weldedVertices =
-	    detail::weldVertices(input, params.weldDistance * bboxDiagonal(input), rep);
+	stats.weldedVertices = detail::weldVertices(input, params.weldDistance * w.diagonal, rep);
 	if (stats.weldedVertices == 0)
 		return;
-	welded.resize(3 * input.faceCount);
+	const bool compact =
+	    double(stats.weldedVertices) >= kCompactWelded * double(input.vertexCount);
+	if (compact) { // (rep[v] = its new index, for a kept vertex)
+		w.inputVertex.reserve(input.vertexCount - stats.weldedVertices);
+		w.positions.reserve(3 * (input.vertexCount - stats.weldedVertices));
+		for (size_t v = 0; v < input.vertexCount; ++v)
+			if (rep[v] == int32_t(v)) {
+				rep[v] = int32_t(w.inputVertex.size());
+				w.inputVertex.push_back(int32_t(v));
+				w.positions.insert(w.positions.end(), input.positions + 3 * v,
+				                   input.positions + 3 * v + 3);
+			} else { // (welded into an earlier vertex: its new index is known)
+				rep[v] = rep[size_t(rep[v])];
+			}
+	}
+	w.triangles.resize(3 * input.faceCount);
 	for (size_t f = 0; f < input.faceCount; ++f) {
 		bool changed = false;
 		for (size_t k = 0; k < 3; ++k) {
-			const int32_t v = input.triangles[3 * f + k];
-			welded[3 * f + k] = rep[size_t(v)];
-			changed |= rep[size_t(v)] != v;
+			const int32_t v = input.triangles[3 * f + k], r = rep[size_t(v)];
+			w.triangles[3 * f + k] = r;
+			changed |= (compact ? w.inputVertex[size_t(r)] : r) != v;
 		}
 		stats.facesReindexed += changed;
 	}
-	mesh.triangles = welded.data();
+	mesh.triangles = w.triangles.data();
+	if (compact) {
+		mesh.positions = w.positions.data();
+		mesh.vertexCount = w.inputVertex.size();
+	}
 }
 
 // What buildLevels and checkInput share: validation, welding, topology, input repairs.
 bool prepare(const MeshView &input, const Params &params, Result &res, MeshView &mesh,
-             std::vector<int32_t> &welded, detail::Topology &topo, size_t threads)
+             WeldedInput &welded, detail::Topology &topo, size_t threads)
 {
 	std::string error = validateParams(params);
 	if (!error.empty())
@@ -141,7 +174,8 @@ bool prepare(const MeshView &input, const Params &params, Result &res, MeshView 
 		return fail(res, ErrorKind::BadInput, error);
 	weldInput(input, params, mesh, welded, res.input);
 	// (the vertex classes are the levels' business: buildLevels classifies the mesh it builds on)
-	detail::buildTopology(mesh, params.featureAngle, topo, threads, false, false);
+	detail::buildTopology(mesh, params.featureAngle, topo, threads, false, false,
+	                      welded.diagonal);
 	countRepairs(mesh, topo, res.input);
 	if (res.input.facesSkipped() == mesh.faceCount)
 		return fail(res, ErrorKind::BadInput,
@@ -336,7 +370,7 @@ Result checkInput(const MeshView &input, const Params &params)
 	Result res;
 	return guarded(res, [&] {
 		MeshView mesh;
-		std::vector<int32_t> welded;
+		WeldedInput welded;
 		detail::Topology topo;
 		return prepare(input, params, res, mesh, welded, topo, detail::threadCount(params.threads));
 	});
@@ -357,7 +391,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 		if (!report(0.0, "adjacency and vertex classes"))
 			return false;
 		MeshView mesh;
-		std::vector<int32_t> welded; // the triangles on welded vertices (only if any was welded)
+		WeldedInput welded; // (the triangles on welded vertices, if any was welded)
 		std::unique_ptr<Topology> inputTopo(new Topology());
 		const size_t threads = threadCount(params.threads);
 		if (!prepare(input, params, res, mesh, welded, *inputTopo, threads))
@@ -413,21 +447,28 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			classifyTopology(*inputTopo, params.featureAngle, threads);
 		}
 		Topology &topo = reduced ? reducedTopo : *inputTopo;
-		// a level as the caller sees it: on the input's faces and corners
+		// a level as the caller sees it: on the input's faces, corners and vertices
+		const bool compacted = !welded.inputVertex.empty();
 		auto toInput = [&](const LevelMesh &lm) {
 			LevelMesh o = lm;
-			o.inputSuperface.assign(full.faceCount, -1);
-			for (size_t f = 0; f < full.faceCount; ++f)
-				if (red.reducedOf[f] >= 0 && size_t(red.reducedOf[f]) < lm.inputSuperface.size())
-					o.inputSuperface[f] = lm.inputSuperface[size_t(red.reducedOf[f])];
-			for (int32_t &v : o.sourceVertex)
-				v = red.vertexOf[size_t(v)];
-			for (int32_t &c : o.sourceCorner)
-				c = c >= 0 ? red.cornerOf[size_t(c)] : c;
-			for (int32_t &f : o.sourceFace)
-				f = f >= 0 ? red.faceOf[size_t(f)] : f;
-			if (o.stats.distanceBound >= 0) // (the reduced surface is within that of the input)
-				o.stats.distanceBound += red.distance;
+			if (reduced) {
+				o.inputSuperface.assign(full.faceCount, -1);
+				for (size_t f = 0; f < full.faceCount; ++f)
+					if (red.reducedOf[f] >= 0 &&
+					    size_t(red.reducedOf[f]) < lm.inputSuperface.size())
+						o.inputSuperface[f] = lm.inputSuperface[size_t(red.reducedOf[f])];
+				for (int32_t &v : o.sourceVertex)
+					v = red.vertexOf[size_t(v)];
+				for (int32_t &c : o.sourceCorner)
+					c = c >= 0 ? red.cornerOf[size_t(c)] : c;
+				for (int32_t &f : o.sourceFace)
+					f = f >= 0 ? red.faceOf[size_t(f)] : f;
+				if (o.stats.distanceBound >= 0) // (the reduced surface is within the input's)
+					o.stats.distanceBound += red.distance;
+			}
+			if (compacted)
+				for (int32_t &v : o.sourceVertex)
+					v = welded.inputVertex[size_t(v)];
 			return o;
 		};
 		const int finest = params.maxLevel - 1;
@@ -543,9 +584,9 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 				                " input faces (no output triangle for their superface)");
 			const bool wanted = params.outputLevels & (1u << level);
 			LevelMesh mapped; // (the level on the input's faces, if it was built on fewer)
-			if (wanted && reduced)
+			if (wanted && (reduced || compacted))
 				mapped = toInput(lm);
-			const LevelMesh &given = wanted && reduced ? mapped : lm;
+			const LevelMesh &given = wanted && (reduced || compacted) ? mapped : lm;
 			if (wanted && sink && !sink(given))
 				return fail(res, ErrorKind::Cancelled, "cancelled");
 			if (wanted && !sink) {

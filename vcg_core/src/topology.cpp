@@ -439,13 +439,13 @@ void classifyTopology(Topology &t, double featureAngleDeg, size_t threads)
 }
 
 void buildTopology(const MeshView &mesh, double featureAngleDeg, Topology &t, size_t threads,
-                   bool withGrid, bool withClasses)
+                   bool withGrid, bool withClasses, double diagonal)
 {
 	t.nV = mesh.vertexCount;
 	t.nF = mesh.faceCount;
 	t.P = mesh.positions;
 	t.T = mesh.triangles;
-	t.diagonal = bboxDiagonal(mesh);
+	t.diagonal = diagonal >= 0 ? diagonal : bboxDiagonal(mesh);
 	t.UV = mesh.cornerUV;
 	t.wantSources = mesh.wantSources;
 	t.keepFace = mesh.keepFace;
