@@ -252,12 +252,15 @@ bool LevelWriter::write(const gausslod::LevelMesh &level, const std::string &ste
 	const std::string name = stem + "_LOD" + std::to_string(level.stats.level) + "." +
 	                         gausslod::formatExtension(format_);
 	vertices = level.positions.size() / 3;
-	if (!in_.mesh) {
-		if (format_ == MeshFormat::Ply &&
-		    !in_.normals) { // the lean path of files without attributes
+	// the lean path of files without attributes, and STL (it holds none: the triangles only)
+	if (format_ == MeshFormat::Stl || !in_.mesh) {
+		if (format_ == MeshFormat::Stl || (format_ == MeshFormat::Ply && !in_.normals)) {
 			const std::string file = outdir_ + "/" + name;
 			const std::string tmp = outdir_ + "/." + name + ".part-" + std::to_string(getpid());
-			if (!gausslod::writeLevelPly(level, tmp, superfaceColours_, error)) {
+			const bool ok = format_ == MeshFormat::Stl
+			                    ? gausslod::writeLevelStl(level, tmp, error)
+			                    : gausslod::writeLevelPly(level, tmp, superfaceColours_, error);
+			if (!ok) {
 				std::remove(tmp.c_str());
 				return false;
 			}

@@ -1,7 +1,8 @@
 // Writes one level straight from its arrays as a binary little-endian PLY file, in the layout
 // VCG's PLY exporter uses for a mesh with per-face colour (float x y z; uchar count + int indices;
-// optionally uchar red green blue alpha per face). Going through a VCG mesh copy of the level
-// instead made that copy the command-line tool's peak memory (about 50 MB for a 900k-face level).
+// optionally uchar red green blue alpha per face), or as a binary STL file with the records VCG's
+// STL exporter writes (writeLevelStl). Going through a VCG mesh copy of the level instead made
+// that copy the command-line tool's peak memory (about 50 MB for a 900k-face level).
 #pragma once
 
 #include "gausslod/gausslod.h"
@@ -101,6 +102,61 @@ inline bool writeLevelPly(const LevelMesh &level, const std::string &file, bool 
 			for (int k = 0; k < 4; ++k)
 				w.u8(c[k]);
 		}
+	}
+	const bool written = w.flush();
+	const bool closed = std::fclose(f) == 0;
+	if (!written || !closed) {
+		error = "cannot write " + file + ": " + std::strerror(errno);
+		std::remove(file.c_str());
+		return false;
+	}
+	return true;
+}
+
+/// The 80-byte header of writeLevelStl's files: the level and its distance bound (a binary STL
+/// header must not start with "solid": readers would take the file for ASCII).
+inline std::string levelStlHeader(const LevelMesh &level)
+{
+	char h[81];
+	if (level.stats.distanceBound >= 0)
+		std::snprintf(h, sizeof h, "GaussLOD level %d distance_bound %.9g", level.stats.level,
+		              level.stats.distanceBound);
+	else
+		std::snprintf(h, sizeof h, "GaussLOD level %d", level.stats.level);
+	std::string s(h);
+	s.resize(80, ' ');
+	return s;
+}
+
+/// Writes `level` to `file` as a binary STL file: levelStlHeader, the face count, then per face
+/// the records vcg::tri::io::ExporterSTL writes for the level as a float VCG mesh (toVcgMesh):
+/// the unit normal computed as its TriangleNormal(...).Normalize() in float, the three corners,
+/// and attribute 0. Returns false with `error` set if the file cannot be written.
+inline bool writeLevelStl(const LevelMesh &level, const std::string &file, std::string &error)
+{
+	std::FILE *f = std::fopen(file.c_str(), "wb");
+	if (!f) {
+		error = "cannot write " + file + ": " + std::strerror(errno);
+		return false;
+	}
+	const size_t nf = level.triangles.size() / 3;
+	detail::LeWriter w(f);
+	w.text(levelStlHeader(level));
+	w.u32(uint32_t(nf));
+	for (size_t t = 0; t < nf; ++t) {
+		vcg::Point3f p[3];
+		for (size_t k = 0; k < 3; ++k) {
+			const double *q = &level.positions[3 * size_t(level.triangles[3 * t + k])];
+			p[k] = vcg::Point3f(float(q[0]), float(q[1]), float(q[2]));
+		}
+		vcg::Point3f n = (p[1] - p[0]) ^ (p[2] - p[0]); // (vcg::TriangleNormal)
+		n.Normalize();
+		for (int k = 0; k < 3; ++k)
+			w.f32(n[k]);
+		for (const vcg::Point3f &c : p)
+			for (int k = 0; k < 3; ++k)
+				w.f32(c[k]);
+		w.u8(0), w.u8(0);
 	}
 	const bool written = w.flush();
 	const bool closed = std::fclose(f) == 0;

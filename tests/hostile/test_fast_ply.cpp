@@ -7,15 +7,19 @@
 // (same status and message) and build the same mesh bit for bit: counts, every vertex's position
 // bits and flags, every face's vertex indices and flags, the load masks, texture names, bounding
 // box. The tool's read (importMeshEither with flat arrays, which skips the VCG mesh for the fast
-// path's files) must give the arrays gausslod::flatten makes of VCG's read. At least MIN_FAST files must have taken the fast path (else it would test nothing). The
+// path's files) must give the arrays gausslod::flatten makes of VCG's read; each fast path mesh,
+// taken as a level, is written by writeLevelStl with the face records VCG's STL exporter writes.
+// At least MIN_FAST files must have taken the fast path (else it would test nothing). The
 // largest of those models is also written in variants of the layout (uint indices, the name
 // vertex_index, type aliases, CRLF header lines, trailing bytes, no faces) that must take the
 // fast path, and variants that must not (a quad in the last batch, an index out of range, a
 // short body, a face count larger than the file, a TextureFile comment, big endian).
 #include "gausslod/vcg_adapter.h"
 #include "gausslod_io/import_mesh.h"
+#include "gausslod_io/level_ply.h"
 
 #include <wrap/io_trimesh/export_ply.h>
+#include <wrap/io_trimesh/export_stl.h>
 
 #include <dirent.h>
 #include <sys/stat.h>
@@ -160,6 +164,55 @@ std::string compareFlat(const std::string &path, bool &tookFlat)
 	return "";
 }
 
+std::string fileBytes(const std::string &path)
+{
+	std::string b;
+	if (std::FILE *f = std::fopen(path.c_str(), "rb")) {
+		char buf[1 << 16];
+		size_t n;
+		while ((n = std::fread(buf, 1, sizeof buf, f)) > 0)
+			b.append(buf, n);
+		std::fclose(f);
+	}
+	return b;
+}
+
+// "" if writeLevelStl writes, for the mesh of `path` taken as a level, the records VCG's STL
+// exporter writes for it (everything after the 80-byte header, which is the level's own).
+std::string compareStl(const std::string &path, const std::string &out)
+{
+	gausslod::IoMesh m;
+	gausslod::ReadError e;
+	if (!gausslod::importMesh(m, path, e) || m.fn == 0 || m.vn != int(m.vert.size()) ||
+	    m.fn != int(m.face.size()))
+		return "";
+	gausslod::LevelMesh level; // (as the engine gives a level: positions in double)
+	for (const auto &v : m.vert)
+		for (int k = 0; k < 3; ++k)
+			level.positions.push_back(double(v.cP()[k]));
+	for (const auto &f : m.face)
+		for (int k = 0; k < 3; ++k)
+			level.triangles.push_back(int32_t(f.cV(k) - m.vert.data()));
+	level.stats.level = 2, level.stats.distanceBound = 0.125;
+	std::string error;
+	const std::string ours = out + "/level.stl", vcgs = out + "/vcg.stl";
+	if (!gausslod::writeLevelStl(level, ours, error))
+		return "writeLevelStl: " + error;
+	gausslod::IoMesh copy;
+	gausslod::toVcgMesh(level, copy, false, false);
+	if (vcg::tri::io::ExporterSTL<gausslod::IoMesh>::Save(copy, vcgs.c_str(), true, 0) != 0)
+		return "VCG's STL exporter failed";
+	const std::string a = fileBytes(ours), b = fileBytes(vcgs);
+	if (a.size() != b.size() || a.size() != 84 + 50 * level.triangles.size() / 3)
+		return "STL sizes " + std::to_string(a.size()) + " vs " + std::to_string(b.size());
+	if (a.compare(0, 15, "GaussLOD level ") != 0)
+		return "STL header";
+	for (size_t i = 80; i < a.size(); ++i)
+		if (a[i] != b[i])
+			return "STL byte " + std::to_string(i) + " (face " + std::to_string((i - 84) / 50) + ")";
+	return "";
+}
+
 // A binary PLY of `m` (VCG's plain layout unless a variant changes it), written here byte by byte.
 struct Variant {
 	const char *name;
@@ -276,7 +329,7 @@ int main(int argc, char **argv)
 		}
 		plys.push_back(path);
 	}
-	int fast = 0, flatReads = 0;
+	int fast = 0, flatReads = 0, stlWritten = 0;
 	for (const std::string &p : plys) {
 		bool lean = false, full = false;
 		const std::string d1 = compare<gausslod::IoMesh>(p, lean);
@@ -294,14 +347,22 @@ int main(int argc, char **argv)
 			                       : d3.c_str());
 			++failed;
 		}
+		if (lean) { // (the level STL writer on the same meshes)
+			const std::string d4 = compareStl(p, out);
+			if (!d4.empty()) {
+				std::printf("FAIL %s: %s\n", p.c_str(), d4.c_str());
+				++failed;
+			}
+			stlWritten += d4.empty();
+		}
 		fast += lean;
 		flatReads += flat;
 	}
 	std::printf("%zu PLY files (%zu written by VCG's exporter from Debian's models, %zu variants of "
-	            "one with %zu faces): %d read by the fast path (%d of them also straight into flat arrays), "
-	            "%d failed\n",
+	            "one with %zu faces): %d read by the fast path (%d of them also straight into flat arrays, "
+	            "%d written as STL levels), %d failed\n",
 	            plys.size(), exported, sizeof variants / sizeof variants[0],
-	            largest.face.size(), fast, flatReads, failed);
+	            largest.face.size(), fast, flatReads, stlWritten, failed);
 	if (fast < minFast) {
 		std::printf("FAIL: only %d files took the fast path (wanted at least %d)\n", fast, minFast);
 		return 1;
