@@ -107,8 +107,41 @@ bool readInputMesh(const std::string &path, const gausslod::Params &p, InputMesh
 		m.map_Kd = m.map_Kd.empty() ? m.map_Kd : gausslod::localTextureName(m.map_Kd, in.folder);
 	in.faceMaterial = std::move(info.faceMaterial);
 	in.flat = gausslod::flattenWithAttributes(*full, a, p);
-	in.mesh = std::move(full);
+	in.mesh.reset(new InputAttributes());
+	in.mesh->take(*full, a); // (the VCG mesh is freed on return)
 	return true;
+}
+
+void InputAttributes::take(const gausslod::IoAttrMesh &m, const gausslod::MeshAttributes &attrs)
+{
+	textures = m.textures;
+	const size_t nv = m.vert.size(), nf = m.face.size();
+	if (attrs.vertColor) {
+		vertColour.resize(nv);
+		for (size_t i = 0; i < nv; ++i)
+			vertColour[i] = m.vert[i].cC();
+	}
+	if (attrs.vertQuality) {
+		vertQuality.resize(nv);
+		for (size_t i = 0; i < nv; ++i)
+			vertQuality[i] = m.vert[i].cQ();
+	}
+	if (attrs.vertTexCoord) {
+		vertTex.resize(nv);
+		for (size_t i = 0; i < nv; ++i)
+			vertTex[i] = m.vert[i].cT();
+	}
+	if (attrs.faceColor) {
+		faceColour.resize(nf);
+		for (size_t i = 0; i < nf; ++i)
+			faceColour[i] = m.face[i].cC();
+	}
+	if (attrs.wedgeTexCoord) {
+		wedgeTex.resize(3 * nf);
+		for (size_t i = 0; i < nf; ++i)
+			for (int k = 0; k < 3; ++k)
+				wedgeTex[3 * i + size_t(k)] = m.face[i].cWT(k);
+	}
 }
 
 LevelWriter::LevelWriter(const InputMesh &in, const Options &o, const std::string &outdir)

@@ -18,6 +18,43 @@
 
 namespace cli {
 
+/// What the levels carry of an input with attributes (MeshAttributes), per vertex and face index
+/// of its VCG mesh as read, without the rest of that mesh: the part of it toVcgMeshWithAttributes
+/// reads (`vert[i]` and `face[i]` answer cC, cQ, cT and cC, cWT as the mesh's elements did). Only
+/// the attributes the input has are stored (bumpy_1m with vertex colours: 2 MB, its VCG mesh
+/// 173 MB). Not copyable: its element views point to it.
+struct InputAttributes {
+	std::vector<vcg::Color4b> vertColour, faceColour; ///< empty = none
+	std::vector<float> vertQuality;
+	std::vector<vcg::TexCoord2f> vertTex, wedgeTex; ///< wedgeTex: 3 per face
+	std::vector<std::string> textures;              ///< the mesh's texture names
+	struct Vertex {
+		const InputAttributes *a;
+		size_t i;
+		vcg::Color4b cC() const { return a->vertColour[i]; }
+		float cQ() const { return a->vertQuality[i]; }
+		const vcg::TexCoord2f &cT() const { return a->vertTex[i]; }
+	};
+	struct Face {
+		const InputAttributes *a;
+		size_t i;
+		vcg::Color4b cC() const { return a->faceColour[i]; }
+		const vcg::TexCoord2f &cWT(int k) const { return a->wedgeTex[3 * i + size_t(k)]; }
+	};
+	template <class E>
+	struct Elements {
+		const InputAttributes *a;
+		E operator[](size_t i) const { return E{a, i}; }
+	};
+	const Elements<Vertex> vert{this};
+	const Elements<Face> face{this};
+	InputAttributes() = default;
+	InputAttributes(const InputAttributes &) = delete;
+	InputAttributes &operator=(const InputAttributes &) = delete;
+	/// The attributes `attrs` lists of `m`.
+	void take(const gausslod::IoAttrMesh &m, const gausslod::MeshAttributes &attrs);
+};
+
 /// The input as the levels need it.
 struct InputMesh {
 	gausslod::FlatMesh flat;                                     ///< what the engine works on
@@ -25,8 +62,8 @@ struct InputMesh {
 	std::string folder;             ///< the input's folder (textures are relative to it)
 	bool normals = false;           ///< per-vertex normals (recomputed for each level)
 	gausslod::MeshAttributes attrs; ///< the attributes read (and carried)
-	std::unique_ptr<gausslod::IoAttrMesh> mesh;    ///< the input, kept while its levels are written
-	                                               ///< (only with attributes)
+	std::unique_ptr<InputAttributes> mesh;         ///< what the levels carry of the input's
+	                                               ///< VCG mesh (only with attributes)
 	std::vector<vcg::tri::io::Material> materials; ///< OBJ: VCG's materials (map_Kd local)
 	std::vector<int> faceMaterial;                 ///< OBJ: per VCG face of `mesh`
 	bool hasColour() const
