@@ -902,6 +902,8 @@ struct SimplePly {
 	uint64_t offset = 0; ///< the body's first byte
 	size_t vertices = 0, faces = 0;
 	bool unsignedIndex = false; ///< uint indices (else int)
+	int colour = 0;             ///< vertex colour: 0 none, 3 uchar red green blue, 4 and alpha
+	size_t vertexBytes = 12;    ///< per vertex record: xyz, then the colour's bytes
 };
 
 inline bool hostLittleEndian()
@@ -944,11 +946,12 @@ bool readPlyTriangles(FILE *f, const SimplePly &sp, std::vector<unsigned char> &
 	return true;
 }
 
-/// The layout VCG and MeshLab write for a mesh without attributes: binary little endian, a vertex
-/// element of float x, y, z, then a face element of one "list uchar int|uint" index list, and no
-/// TextureFile comment; a body of exactly 12 bytes per vertex and 13 per face (at least: VCG
-/// ignores what follows), every face a triangle of vertices in range (read here, in batches, to
-/// check). False (out.ok false) for anything else, left to the walk. Needs no memory of its own
+/// The layout VCG and MeshLab write for a mesh without attributes, or with vertex colours only:
+/// binary little endian, a vertex element of float x, y, z (then uchar red, green, blue and
+/// optionally alpha), then a face element of one "list uchar int|uint" index list, and no
+/// TextureFile comment; a body of exactly 12 (15, 16) bytes per vertex and 13 per face (at least:
+/// VCG ignores what follows), every face a triangle of vertices in range (read here, in batches,
+/// to check). False (out.ok false) for anything else, left to the walk. Needs no memory of its own
 /// beyond a batch: readChecked reads the body again into the mesh.
 inline bool readSimplePly(FILE *f, const PlyHeader &h, const vcg::ply::PlyFile &pf, uint64_t size,
                           SimplePly &out)
@@ -958,13 +961,14 @@ inline bool readSimplePly(FILE *f, const PlyHeader &h, const vcg::ply::PlyFile &
 	if (h.format != 2 || !hostLittleEndian() || pf.elements.size() != 2)
 		return false;
 	const PlyElement &ve = pf.elements[0], &fe = pf.elements[1];
-	if (ve.name != "vertex" || fe.name != "face" || ve.props.size() != 3 ||
+	const size_t np = ve.props.size();
+	if (ve.name != "vertex" || fe.name != "face" || !(np == 3 || np == 6 || np == 7) ||
 	    fe.props.size() != 1 || ve.number < 0 || fe.number < 0)
 		return false;
-	static const char *const xyz[] = {"x", "y", "z"};
-	for (int k = 0; k < 3; ++k)
-		if (ve.props[size_t(k)].name != xyz[k] || ve.props[size_t(k)].islist ||
-		    ve.props[size_t(k)].tipo != T_FLOAT)
+	static const char *const names[] = {"x", "y", "z", "red", "green", "blue", "alpha"};
+	for (size_t k = 0; k < np; ++k)
+		if (ve.props[k].name != names[k] || ve.props[k].islist ||
+		    ve.props[k].tipo != (k < 3 ? T_FLOAT : T_UCHAR))
 			return false;
 	const PlyProperty &ip = fe.props[0];
 	if (!ip.islist || (ip.name != "vertex_indices" && ip.name != "vertex_index") ||
@@ -978,12 +982,14 @@ inline bool readSimplePly(FILE *f, const PlyHeader &h, const vcg::ply::PlyFile &
 	sp.offset = h.dataOffset;
 	sp.vertices = size_t(ve.number), sp.faces = size_t(fe.number);
 	sp.unsignedIndex = ip.tipo == T_UINT;
+	sp.colour = int(np) - 3;
+	sp.vertexBytes = kPlyVertexBytes + size_t(sp.colour);
 	// (a body shorter than the counts say is the walk's to report, without reading it here)
 	if (size < sp.offset ||
 	    double(size - sp.offset) <
-	        double(kPlyVertexBytes) * double(sp.vertices) + double(kPlyFaceBytes) * double(sp.faces))
+	        double(sp.vertexBytes) * double(sp.vertices) + double(kPlyFaceBytes) * double(sp.faces))
 		return false;
-	if (std::fseek(f, long(sp.offset + kPlyVertexBytes * sp.vertices), SEEK_SET) != 0)
+	if (std::fseek(f, long(sp.offset + sp.vertexBytes * sp.vertices), SEEK_SET) != 0)
 		return false;
 	std::vector<unsigned char> buf;
 	if (!readPlyTriangles(f, sp, buf, [](size_t, int, uint32_t) {}))
@@ -1512,6 +1518,8 @@ inline bool readSimplePlyFlat(CheckedFile &c, FlatRead &out, ReadError &e, ReadI
 		return changed();
 	out.positions.resize(3 * sp.vertices);
 	out.triangles.resize(3 * sp.faces);
+	if (sp.colour != 0) // (its caller reads coloured files into a VCG mesh)
+		return corrupt(e, "PLY: vertex colours cannot be read into flat arrays");
 	std::vector<unsigned char> buf(kPlyVertexBytes * std::min(sp.vertices, kPlyBatch));
 	double *p = out.positions.data();
 	for (size_t done = 0; done < sp.vertices;) {
@@ -1564,19 +1572,27 @@ bool readChecked(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info)
 		};
 		if (!file.f || std::fseek(file.f, long(sp.offset), SEEK_SET) != 0)
 			return changed();
-		std::vector<unsigned char> buf(kPlyVertexBytes * std::min(sp.vertices, kPlyBatch));
+		// (the colour as Open reads it when the mesh type has one: alpha 255 unless the file
+		// has it, import_ply.h:481-489, 677, 711-717)
+		const bool colour = sp.colour > 0 && vcg::tri::HasPerVertexColor(m);
+		std::vector<unsigned char> buf(
+		    std::max(sp.vertexBytes * std::min(sp.vertices, kPlyBatch), size_t(1)));
 		if (sp.vertices) {
 			auto vi = vcg::tri::Allocator<MeshT>::AddVertices(m, sp.vertices);
 			for (size_t done = 0; done < sp.vertices;) {
 				const size_t n = std::min(sp.vertices - done, kPlyBatch);
-				if (std::fread(buf.data(), kPlyVertexBytes, n, file.f) != n)
+				if (std::fread(buf.data(), sp.vertexBytes, n, file.f) != n)
 					return changed();
-				for (size_t i = 0; i < n; ++i, ++vi)
+				for (size_t i = 0; i < n; ++i, ++vi) {
+					const unsigned char *r = &buf[sp.vertexBytes * i];
 					for (int k = 0; k < 3; ++k) {
 						float x;
-						std::memcpy(&x, &buf[kPlyVertexBytes * i + 4 * size_t(k)], 4);
+						std::memcpy(&x, r + 4 * size_t(k), 4);
 						(*vi).P()[k] = x;
 					}
+					if (colour) // (a type without colour never gets here: HasPerVertexColor)
+						(*vi).C() = vcg::Color4b(r[12], r[13], r[14], sp.colour == 4 ? r[15] : 255);
+				}
 				done += n;
 			}
 		}
@@ -1590,7 +1606,8 @@ bool readChecked(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info)
 		m.textures.clear();
 		m.normalmaps.clear();
 		vcg::tri::UpdateBounding<MeshT>::Box(m);
-		mask = 0; // (Open's for this layout: it names no attribute, import_ply.h:387-570)
+		// (Open's for this layout: it names no attribute but the colour, import_ply.h:387-570)
+		mask = colour ? int(vcg::tri::io::Mask::IOM_VERTCOLOR) : 0;
 		fastPly = true;
 	} else if (c.format == Format::Ply) {
 		using Ply = vcg::tri::io::ImporterPLY<MeshT>;
@@ -1724,8 +1741,8 @@ bool importMeshEither(LeanT &lean, FullT &full, bool &usedFull, const std::strin
 		detail::CheckedFile c;
 		if (!detail::checkFile<LeanT>(path, sizeof(V), sizeof(F), c, error))
 			return false;
-		if (flat && c.format == detail::Format::Ply && c.ply.ok) // (no attribute in that layout)
-			return detail::readSimplePlyFlat(c, *flat, error, info);
+		if (flat && c.format == detail::Format::Ply && c.ply.ok && c.ply.colour == 0)
+			return detail::readSimplePlyFlat(c, *flat, error, info); // (no attribute to carry)
 		if (!(c.facts.mask & wantMask))
 			return detail::readChecked(lean, c, error, info);
 		using FV = typename FullT::VertexType;

@@ -1,19 +1,22 @@
-// test_fast_ply OUTDIR MIN_FAST DIR...: the binary PLY fast path of importMesh (DESIGN 33) against
-// VCG's own reader, file by file. Every .ply under the DIRs (the hostile corpus, Debian's models,
-// the fuzz seeds), and a binary PLY that VCG's exporter writes into OUTDIR for every .off and .obj
-// model of Debian's CGAL data under the DIRs (the layout MeshLab saves a mesh without attributes
-// in: real geometry, files nobody here wrote by hand), is read twice into each of the tool's two
-// mesh types: as the tool reads it, and with the fast path off. Both must succeed or fail alike
-// (same status and message) and build the same mesh bit for bit: counts, every vertex's position
-// bits and flags, every face's vertex indices and flags, the load masks, texture names, bounding
-// box. The tool's read (importMeshEither with flat arrays, which skips the VCG mesh for the fast
-// path's files) must give the arrays gausslod::flatten makes of VCG's read; each fast path mesh,
-// taken as a level, is written by writeLevelStl with the face records VCG's STL exporter writes.
-// At least MIN_FAST files must have taken the fast path (else it would test nothing). The
-// largest of those models is also written in variants of the layout (uint indices, the name
-// vertex_index, type aliases, CRLF header lines, trailing bytes, no faces) that must take the
-// fast path, and variants that must not (a quad in the last batch, an index out of range, a
-// short body, a face count larger than the file, a TextureFile comment, big endian).
+// test_fast_ply OUTDIR MIN_FAST DIR...: the binary PLY fast path of importMesh (DESIGN 33, 48)
+// against VCG's own reader, file by file. Every .ply under the DIRs (the hostile corpus, Debian's
+// models, the fuzz seeds), and a binary PLY that VCG's exporter writes into OUTDIR for every .off
+// and .obj model of Debian's CGAL data under the DIRs (the layout MeshLab saves a mesh without
+// attributes in: real geometry, files nobody here wrote by hand; every third also with vertex
+// colours, as MeshLab saves a coloured scan), is read twice into each of the tool's two mesh
+// types: as the tool reads it, and with the fast path off. Both must succeed or fail alike (same
+// status and message) and build the same mesh bit for bit: counts, every vertex's position bits,
+// colour, quality and flags (normals and texture coordinates where the read mask names them),
+// every face's vertex indices, flags and colour, the load masks, texture names, bounding box.
+// The tool's read (importMeshEither with flat arrays, which skips the VCG mesh for the fast
+// path's files without colour) must give the arrays gausslod::flatten makes of VCG's read; each
+// fast path mesh, taken as a level, is written by writeLevelStl with the face records VCG's STL
+// exporter writes. At least MIN_FAST files, 10 of them coloured, must have taken the fast path
+// (else it would test nothing). The largest of those models is also written in variants of the
+// layout (uint indices, the name vertex_index, type aliases, CRLF header lines, trailing bytes,
+// no faces, uchar rgb and rgba colours) that must take the fast path, and variants that must not
+// (a quad in the last batch, an index out of range, a short body, a face count larger than the
+// file, a TextureFile comment, big endian, float colours, a fifth colour byte).
 #include "gausslod/vcg_adapter.h"
 #include "gausslod_io/import_mesh.h"
 #include "gausslod_io/level_ply.h"
@@ -94,6 +97,35 @@ bool sameBits(const T &a, const T &b)
 	return std::memcmp(&a, &b, sizeof(T)) == 0;
 }
 
+// The components VCG's reader sets (colour and quality are also initialised by VCG; normals and
+// texture coordinates only where the read mask names them), bit for bit; quality and texture
+// coordinates only in the attribute mesh type.
+using M = vcg::tri::io::Mask;
+bool sameVertex(const gausslod::IoVertex &a, const gausslod::IoVertex &b, int mask)
+{
+	return sameBits(a.cC(), b.cC()) && (!(mask & M::IOM_VERTNORMAL) || sameBits(a.cN(), b.cN()));
+}
+bool sameFace(const gausslod::IoFace &a, const gausslod::IoFace &b, int mask)
+{
+	return sameBits(a.cC(), b.cC()) && (!(mask & M::IOM_FACENORMAL) || sameBits(a.cN(), b.cN()));
+}
+bool sameVertex(const gausslod::IoAttrVertex &a, const gausslod::IoAttrVertex &b, int mask)
+{
+	return sameBits(a.cC(), b.cC()) && sameBits(a.cQ(), b.cQ()) &&
+	       (!(mask & M::IOM_VERTNORMAL) || sameBits(a.cN(), b.cN())) &&
+	       (!(mask & M::IOM_VERTTEXCOORD) ||
+	        (sameBits(a.cT().P(), b.cT().P()) && a.cT().N() == b.cT().N()));
+}
+bool sameFace(const gausslod::IoAttrFace &a, const gausslod::IoAttrFace &b, int mask)
+{
+	if (!sameBits(a.cC(), b.cC()) || ((mask & M::IOM_FACENORMAL) && !sameBits(a.cN(), b.cN())))
+		return false;
+	for (int k = 0; (mask & M::IOM_WEDGTEXCOORD) && k < 3; ++k)
+		if (!sameBits(a.cWT(k).P(), b.cWT(k).P()) || a.cWT(k).N() != b.cWT(k).N())
+			return false;
+	return true;
+}
+
 // "" if the two reads agree, else what differs.
 template <class MeshT>
 std::string compare(const std::string &path, bool &tookFast)
@@ -117,7 +149,8 @@ std::string compare(const std::string &path, bool &tookFast)
 		return "counts " + std::to_string(a.vn) + "/" + std::to_string(a.fn) + " vs " +
 		       std::to_string(b.vn) + "/" + std::to_string(b.fn);
 	for (size_t i = 0; i < a.vert.size(); ++i)
-		if (!sameBits(a.vert[i].cP(), b.vert[i].cP()) || a.vert[i].cFlags() != b.vert[i].cFlags())
+		if (!sameBits(a.vert[i].cP(), b.vert[i].cP()) || a.vert[i].cFlags() != b.vert[i].cFlags() ||
+		    !sameVertex(a.vert[i], b.vert[i], rb.info.mask))
 			return "vertex " + std::to_string(i);
 	for (size_t i = 0; i < a.face.size(); ++i) {
 		for (int k = 0; k < 3; ++k)
@@ -125,6 +158,8 @@ std::string compare(const std::string &path, bool &tookFast)
 				return "face " + std::to_string(i) + " corner " + std::to_string(k);
 		if (a.face[i].cFlags() != b.face[i].cFlags())
 			return "face " + std::to_string(i) + " flags";
+		if (!sameFace(a.face[i], b.face[i], rb.info.mask))
+			return "face " + std::to_string(i) + " colour, normal or texture coordinates";
 	}
 	if (a.textures != b.textures)
 		return "texture names";
@@ -136,7 +171,7 @@ std::string compare(const std::string &path, bool &tookFast)
 // "" if the tool's read of `path` (importMeshEither with flat arrays: the fast path's files are read
 // without a VCG mesh) gives the flat arrays gausslod::flatten makes of VCG's own read, and fails
 // alike; `tookFlat`: it read the file into the flat arrays.
-std::string compareFlat(const std::string &path, bool &tookFlat)
+std::string compareFlat(const std::string &path, bool &tookFlat, bool &coloured)
 {
 	gausslod::IoMesh lean, vcgRead;
 	gausslod::IoAttrMesh full;
@@ -146,6 +181,7 @@ std::string compareFlat(const std::string &path, bool &tookFlat)
 	ra.ok = gausslod::importMeshEither(lean, full, usedFull, path, ~0, ra.error, &ra.info, &flat);
 	tookFlat = flat.used;
 	const Read rb = readWith(vcgRead, path, false);
+	coloured = (rb.info.mask & vcg::tri::io::Mask::IOM_VERTCOLOR) != 0; // (read into a VCG mesh)
 	if (ra.ok != rb.ok || ra.error.status != rb.error.status ||
 	    ra.error.message != rb.error.message)
 		return "flat result: " + std::string(ra.ok ? "ok" : ra.error.message) + ", VCG " +
@@ -232,6 +268,12 @@ void writeVariant(const gausslod::IoMesh &m, const std::string &path, const std:
 	h += "element vertex " + std::to_string(nv) + nl;
 	for (const char *c : {"x", "y", "z"})
 		h += "property " + f + " " + c + nl;
+	// vertex colours: uchar rgb or rgba (the fast path's), float rgb or a fifth uchar (not)
+	const bool rgb = v == "rgb" || v == "rgba" || v == "rgb_float" || v == "rgba_extra";
+	const int channels = v == "rgb" || v == "rgb_float" ? 3 : v == "rgba" ? 4 : v == "rgba_extra" ? 5 : 0;
+	static const char *const colourNames[] = {"red", "green", "blue", "alpha", "extra"};
+	for (int k = 0; k < channels; ++k)
+		h += std::string("property ") + (v == "rgb_float" ? "float " : "uchar ") + colourNames[k] + nl;
 	h += "element face " + std::to_string(v == "lying_faces" ? nf * 1000 : nf) + nl;
 	h += std::string("property list ") + (v == "aliases" ? "uint8 int32" : v == "uint" ? "uchar uint" : "uchar int") +
 	     (v == "vertex_index" ? " vertex_index" : " vertex_indices") + nl + "end_header" + nl;
@@ -242,11 +284,21 @@ void writeVariant(const gausslod::IoMesh &m, const std::string &path, const std:
 			std::reverse(b.begin(), b.end());
 		body += b;
 	};
-	for (size_t i = 0; i < nv; ++i)
+	for (size_t i = 0; i < nv; ++i) {
 		for (int k = 0; k < 3; ++k) {
 			const float x = m.vert[i].cP()[k];
 			put(&x, 4);
 		}
+		for (int k = 0; rgb && k < channels; ++k) {
+			const unsigned char c = (unsigned char)(i * 37 + size_t(k) * 101); // (alpha varies too)
+			if (v == "rgb_float") {
+				const float x = float(c) / 255.f;
+				put(&x, 4);
+			} else {
+				body += char(c);
+			}
+		}
+	}
 	for (size_t i = 0; i < nf; ++i) {
 		const bool last = i + 1 == nf;
 		const unsigned char count = last && v == "quad_last" ? 4 : 3;
@@ -300,12 +352,24 @@ int main(int argc, char **argv)
 		       gausslod::detail::lowerExtension(m) + ".ply";
 		if (vcg::tri::io::ExporterPLY<gausslod::IoMesh>::Save(mesh, name.c_str(), 0, true) == 0)
 			plys.push_back(name), ++exported;
+		// every third model also with vertex colours, as MeshLab saves a coloured scan
+		if (exported % 3 == 0) {
+			for (size_t i = 0; i < mesh.vert.size(); ++i)
+				mesh.vert[i].C() = vcg::Color4b((unsigned char)(i * 7), (unsigned char)(i * 13),
+				                                (unsigned char)(i * 29), (unsigned char)(255 - i % 7));
+			const std::string coloured = name.substr(0, name.size() - 4) + "_rgba.ply";
+			if (vcg::tri::io::ExporterPLY<gausslod::IoMesh>::Save(
+			        mesh, coloured.c_str(), vcg::tri::io::Mask::IOM_VERTCOLOR, true) == 0)
+				plys.push_back(coloured), ++exported;
+		}
 	}
 	// the variants of the largest model (more faces than one batch of the fast path)
 	const Variant variants[] = {
 	    {"plain", true},           {"uint", true},          {"vertex_index", true},
 	    {"aliases", true},         {"crlf", true},          {"trailing", true},
 	    {"no_faces", true},        {"quad_last", false},    {"index_out_of_range", false},
+	    {"rgb", true},             {"rgba", true},          {"rgb_float", false},
+	    {"rgba_extra", false},
 	    {"short_body", false},     {"lying_faces", false},  {"texture_comment", false},
 	    {"big_endian", false}};
 	int failed = 0;
@@ -329,7 +393,7 @@ int main(int argc, char **argv)
 		}
 		plys.push_back(path);
 	}
-	int fast = 0, flatReads = 0, stlWritten = 0;
+	int fast = 0, flatReads = 0, stlWritten = 0, fastColoured = 0;
 	for (const std::string &p : plys) {
 		bool lean = false, full = false;
 		const std::string d1 = compare<gausslod::IoMesh>(p, lean);
@@ -339,9 +403,9 @@ int main(int argc, char **argv)
 			            lean != full ? "fast path taken for one mesh type only" : d2.c_str());
 			++failed;
 		}
-		bool flat = false;
-		const std::string d3 = compareFlat(p, flat);
-		if (!d3.empty() || flat != lean) {
+		bool flat = false, coloured = false;
+		const std::string d3 = compareFlat(p, flat, coloured);
+		if (!d3.empty() || flat != (lean && !coloured)) {
 			std::printf("FAIL %s: %s\n", p.c_str(),
 			            d3.empty() ? "flat arrays read where the fast path was not, or not where it was"
 			                       : d3.c_str());
@@ -357,12 +421,17 @@ int main(int argc, char **argv)
 		}
 		fast += lean;
 		flatReads += flat;
+		fastColoured += lean && coloured;
 	}
 	std::printf("%zu PLY files (%zu written by VCG's exporter from Debian's models, %zu variants of "
-	            "one with %zu faces): %d read by the fast path (%d of them also straight into flat arrays, "
-	            "%d written as STL levels), %d failed\n",
+	            "one with %zu faces): %d read by the fast path (%d of them with vertex colours, %d straight "
+	            "into flat arrays, %d written as STL levels), %d failed\n",
 	            plys.size(), exported, sizeof variants / sizeof variants[0],
-	            largest.face.size(), fast, flatReads, stlWritten, failed);
+	            largest.face.size(), fast, fastColoured, flatReads, stlWritten, failed);
+	if (fastColoured < 10) {
+		std::printf("FAIL: only %d files with vertex colours took the fast path\n", fastColoured);
+		return 1;
+	}
 	if (fast < minFast) {
 		std::printf("FAIL: only %d files took the fast path (wanted at least %d)\n", fast, minFast);
 		return 1;
