@@ -1,8 +1,10 @@
 // The gausslod tool's input mesh and level files: what a file carries besides its triangles
 // (colours, texture coordinates, textures, materials, normals) is read with VCG's importers and
 // written back into every level with VCG's exporters, each value copied from the input corner or
-// face the level's corner or face replaces (gausslod/vcg_adapter.h). Files without such
-// attributes take the lean path (IoMesh, the fast PLY writer of level_ply.h).
+// face the level's corner or face replaces (gausslod/vcg_adapter.h); only those attributes are
+// kept once the file is read (InputAttributes). Files without such attributes take the lean path
+// (a plain binary PLY straight into the engine's arrays, else IoMesh; the fast PLY and STL
+// writers of level_ply.h).
 #pragma once
 
 #include "cli.h"
@@ -65,7 +67,7 @@ struct InputMesh {
 	std::unique_ptr<InputAttributes> mesh;         ///< what the levels carry of the input's
 	                                               ///< VCG mesh (only with attributes)
 	std::vector<vcg::tri::io::Material> materials; ///< OBJ: VCG's materials (map_Kd local)
-	std::vector<int> faceMaterial;                 ///< OBJ: per VCG face of `mesh`
+	std::vector<int> faceMaterial;                 ///< OBJ: per VCG face as read
 	bool hasColour() const
 	{
 		return attrs.vertColor || attrs.faceColor || attrs.vertTexCoord || attrs.wedgeTexCoord;

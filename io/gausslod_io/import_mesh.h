@@ -1516,10 +1516,10 @@ inline bool readSimplePlyFlat(CheckedFile &c, FlatRead &out, ReadError &e, ReadI
 	auto changed = [&] { return corrupt(e, "PLY: the file changed while it was read"); };
 	if (!file.f || std::fseek(file.f, long(sp.offset), SEEK_SET) != 0)
 		return changed();
-	out.positions.resize(3 * sp.vertices);
-	out.triangles.resize(3 * sp.faces);
 	if (sp.colour != 0) // (its caller reads coloured files into a VCG mesh)
 		return corrupt(e, "PLY: vertex colours cannot be read into flat arrays");
+	out.positions.resize(3 * sp.vertices);
+	out.triangles.resize(3 * sp.faces);
 	std::vector<unsigned char> buf(kPlyVertexBytes * std::min(sp.vertices, kPlyBatch));
 	double *p = out.positions.data();
 	for (size_t done = 0; done < sp.vertices;) {
@@ -1575,8 +1575,7 @@ bool readChecked(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info)
 		// (the colour as Open reads it when the mesh type has one: alpha 255 unless the file
 		// has it, import_ply.h:481-489, 677, 711-717)
 		const bool colour = sp.colour > 0 && vcg::tri::HasPerVertexColor(m);
-		std::vector<unsigned char> buf(
-		    std::max(sp.vertexBytes * std::min(sp.vertices, kPlyBatch), size_t(1)));
+		std::vector<unsigned char> buf(sp.vertexBytes * std::min(sp.vertices, kPlyBatch));
 		if (sp.vertices) {
 			auto vi = vcg::tri::Allocator<MeshT>::AddVertices(m, sp.vertices);
 			for (size_t done = 0; done < sp.vertices;) {
