@@ -60,49 +60,18 @@ private:
 	bool ok_ = true;
 };
 
-} // namespace detail
-
-/// Writes `level` to `file`; faces coloured by superface (superfaceColour) if asked. Returns false
-/// with `error` set if the file cannot be written.
-inline bool writeLevelPly(const LevelMesh &level, const std::string &file, bool colourBySuperface,
-                          std::string &error)
+/// Opens `file`, lets `body` write it through a LeWriter, flushes and closes it. False with
+/// `error` set (and the file removed) if any of that fails.
+template <class Body>
+bool writeBinaryFile(const std::string &file, std::string &error, Body body)
 {
 	std::FILE *f = std::fopen(file.c_str(), "wb");
 	if (!f) {
 		error = "cannot write " + file + ": " + std::strerror(errno);
 		return false;
 	}
-	const size_t nv = level.positions.size() / 3, nf = level.triangles.size() / 3;
-	detail::LeWriter w(f);
-	std::string header = "ply\nformat binary_little_endian 1.0\ncomment GaussLOD level " +
-	                     std::to_string(level.stats.level) + "\n";
-	if (level.stats.distanceBound >= 0) { // (for a renderer choosing the level by error)
-		char line[160];
-		std::snprintf(line, sizeof line,
-		              "comment GaussLOD distance_bound %.9g (upper bound on the distance to the "
-		              "input, mesh units)\n",
-		              level.stats.distanceBound);
-		header += line;
-	}
-	header += "element vertex " + std::to_string(nv) +
-	                     "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
-	                     std::to_string(nf) + "\nproperty list uchar int vertex_indices\n";
-	if (colourBySuperface)
-		header += "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n";
-	header += "end_header\n";
-	w.text(header);
-	for (size_t i = 0; i < 3 * nv; ++i)
-		w.f32(float(level.positions[i]));
-	for (size_t t = 0; t < nf; ++t) {
-		w.u8(3);
-		for (size_t k = 0; k < 3; ++k)
-			w.u32(uint32_t(level.triangles[3 * t + k]));
-		if (colourBySuperface) {
-			const vcg::Color4b c = superfaceColour(level.superface[t]);
-			for (int k = 0; k < 4; ++k)
-				w.u8(c[k]);
-		}
-	}
+	LeWriter w(f);
+	body(w);
 	const bool written = w.flush();
 	const bool closed = std::fclose(f) == 0;
 	if (!written || !closed) {
@@ -111,6 +80,48 @@ inline bool writeLevelPly(const LevelMesh &level, const std::string &file, bool 
 		return false;
 	}
 	return true;
+}
+
+} // namespace detail
+
+/// Writes `level` to `file`; faces coloured by superface (superfaceColour) if asked. Returns false
+/// with `error` set if the file cannot be written.
+inline bool writeLevelPly(const LevelMesh &level, const std::string &file, bool colourBySuperface,
+                          std::string &error)
+{
+	return detail::writeBinaryFile(file, error, [&](detail::LeWriter &w) {
+		const size_t nv = level.positions.size() / 3, nf = level.triangles.size() / 3;
+		std::string header = "ply\nformat binary_little_endian 1.0\ncomment GaussLOD level " +
+		                     std::to_string(level.stats.level) + "\n";
+		if (level.stats.distanceBound >= 0) { // (for a renderer choosing the level by error)
+			char line[160];
+			std::snprintf(line, sizeof line,
+			              "comment GaussLOD distance_bound %.9g (upper bound on the distance to "
+			              "the input, mesh units)\n",
+			              level.stats.distanceBound);
+			header += line;
+		}
+		header += "element vertex " + std::to_string(nv) +
+		          "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+		          std::to_string(nf) + "\nproperty list uchar int vertex_indices\n";
+		if (colourBySuperface)
+			header += "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty "
+			          "uchar alpha\n";
+		header += "end_header\n";
+		w.text(header);
+		for (size_t i = 0; i < 3 * nv; ++i)
+			w.f32(float(level.positions[i]));
+		for (size_t t = 0; t < nf; ++t) {
+			w.u8(3);
+			for (size_t k = 0; k < 3; ++k)
+				w.u32(uint32_t(level.triangles[3 * t + k]));
+			if (colourBySuperface) {
+				const vcg::Color4b c = superfaceColour(level.superface[t]);
+				for (int k = 0; k < 4; ++k)
+					w.u8(c[k]);
+			}
+		}
+	});
 }
 
 /// The 80-byte header of writeLevelStl's files: the level and its distance bound (a binary STL
@@ -134,38 +145,26 @@ inline std::string levelStlHeader(const LevelMesh &level)
 /// and attribute 0. Returns false with `error` set if the file cannot be written.
 inline bool writeLevelStl(const LevelMesh &level, const std::string &file, std::string &error)
 {
-	std::FILE *f = std::fopen(file.c_str(), "wb");
-	if (!f) {
-		error = "cannot write " + file + ": " + std::strerror(errno);
-		return false;
-	}
-	const size_t nf = level.triangles.size() / 3;
-	detail::LeWriter w(f);
-	w.text(levelStlHeader(level));
-	w.u32(uint32_t(nf));
-	for (size_t t = 0; t < nf; ++t) {
-		vcg::Point3f p[3];
-		for (size_t k = 0; k < 3; ++k) {
-			const double *q = &level.positions[3 * size_t(level.triangles[3 * t + k])];
-			p[k] = vcg::Point3f(float(q[0]), float(q[1]), float(q[2]));
-		}
-		vcg::Point3f n = (p[1] - p[0]) ^ (p[2] - p[0]); // (vcg::TriangleNormal)
-		n.Normalize();
-		for (int k = 0; k < 3; ++k)
-			w.f32(n[k]);
-		for (const vcg::Point3f &c : p)
+	return detail::writeBinaryFile(file, error, [&](detail::LeWriter &w) {
+		const size_t nf = level.triangles.size() / 3;
+		w.text(levelStlHeader(level));
+		w.u32(uint32_t(nf));
+		for (size_t t = 0; t < nf; ++t) {
+			vcg::Point3f p[3];
+			for (size_t k = 0; k < 3; ++k) {
+				const double *q = &level.positions[3 * size_t(level.triangles[3 * t + k])];
+				p[k] = vcg::Point3f(float(q[0]), float(q[1]), float(q[2]));
+			}
+			vcg::Point3f n = (p[1] - p[0]) ^ (p[2] - p[0]); // (vcg::TriangleNormal)
+			n.Normalize();
 			for (int k = 0; k < 3; ++k)
-				w.f32(c[k]);
-		w.u8(0), w.u8(0);
-	}
-	const bool written = w.flush();
-	const bool closed = std::fclose(f) == 0;
-	if (!written || !closed) {
-		error = "cannot write " + file + ": " + std::strerror(errno);
-		std::remove(file.c_str());
-		return false;
-	}
-	return true;
+				w.f32(n[k]);
+			for (const vcg::Point3f &c : p)
+				for (int k = 0; k < 3; ++k)
+					w.f32(c[k]);
+			w.u8(0), w.u8(0);
+		}
+	});
 }
 
 } // namespace gausslod
