@@ -285,6 +285,8 @@ TEST(ErrorBound, coplanar_regions_first_keep_the_surface_and_its_topology)
 	    {"fandisk split, floats", midpointSplit(fandisk, true), true},
 	    {"joint split twice, floats",
 	     midpointSplit(midpointSplit(loadOff("joint.off"), true), true), true},
+	    {"fandisk split twice, floats (runs dropped, then forced)",
+	     midpointSplit(midpointSplit(fandisk, true), true), true},
 	    {"bunny00", loadOff("bunny00.off"), false}};
 	for (const Case &c : cases) {
 		SCOPED_TRACE(c.name);

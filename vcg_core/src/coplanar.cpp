@@ -288,7 +288,7 @@ bool regionRings(const Topology &t, const Regions &r, int32_t reg, const int32_t
 						const double d = pointSegmentDistance(t.pos(x), t.pos(a), t.pos(v));
 						if (d > worst)
 							worst = d, far = x;
-						else
+						else if (d <= eps) // (a run with a farther vertex is not taken)
 							chainDev = std::max(chainDev, d);
 					}
 					if (far >= 0 && !forced[size_t(far)])
