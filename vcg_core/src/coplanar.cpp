@@ -88,19 +88,22 @@ void growRegions(const MeshView &mesh, const Topology &t, double eps, size_t thr
 	parallelRanges(nF, threads, [&](size_t f0, size_t f1, size_t part) {
 		double &dev = devOf[part];
 		size_t last = SIZE_MAX; // (the seed's plane, kept while its faces follow each other)
+		size_t lastBad = SIZE_MAX; // (the last component found bad: its faces need no check)
 		Vec3 n(0, 0, 0), p(0, 0, 0);
 		for (size_t f = f0; f < f1; ++f) {
 			const size_t s = size_t(parent[f]);
-			if (size[s] < 2)
+			if (size[s] < 2 || s == lastBad)
 				continue;
 			if (s != last)
 				last = s, n = t.faceNormal[s], p = t.pos(t.T[3 * s]);
 			for (size_t k = 0; k < 3; ++k) {
 				const double d = std::fabs((t.pos(t.T[3 * f + k]) - p).dot(n));
-				if (d > eps)
+				if (d > eps) { // (then planeDev is eps at least: what is skipped is below)
 					badOf[part].push_back(int32_t(s));
-				else
-					dev = std::max(dev, d);
+					lastBad = s;
+					break;
+				}
+				dev = std::max(dev, d);
 			}
 		}
 	});
