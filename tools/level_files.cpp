@@ -115,33 +115,20 @@ bool readInputMesh(const std::string &path, const gausslod::Params &p, InputMesh
 void InputAttributes::take(const gausslod::IoAttrMesh &m, const gausslod::MeshAttributes &attrs)
 {
 	textures = m.textures;
+	auto copy = [](bool wanted, size_t n, auto &out, auto value) {
+		if (!wanted)
+			return;
+		out.resize(n);
+		for (size_t i = 0; i < n; ++i)
+			out[i] = value(i);
+	};
 	const size_t nv = m.vert.size(), nf = m.face.size();
-	if (attrs.vertColor) {
-		vertColour.resize(nv);
-		for (size_t i = 0; i < nv; ++i)
-			vertColour[i] = m.vert[i].cC();
-	}
-	if (attrs.vertQuality) {
-		vertQuality.resize(nv);
-		for (size_t i = 0; i < nv; ++i)
-			vertQuality[i] = m.vert[i].cQ();
-	}
-	if (attrs.vertTexCoord) {
-		vertTex.resize(nv);
-		for (size_t i = 0; i < nv; ++i)
-			vertTex[i] = m.vert[i].cT();
-	}
-	if (attrs.faceColor) {
-		faceColour.resize(nf);
-		for (size_t i = 0; i < nf; ++i)
-			faceColour[i] = m.face[i].cC();
-	}
-	if (attrs.wedgeTexCoord) {
-		wedgeTex.resize(3 * nf);
-		for (size_t i = 0; i < nf; ++i)
-			for (int k = 0; k < 3; ++k)
-				wedgeTex[3 * i + size_t(k)] = m.face[i].cWT(k);
-	}
+	copy(attrs.vertColor, nv, vertColour, [&](size_t i) { return m.vert[i].cC(); });
+	copy(attrs.vertQuality, nv, vertQuality, [&](size_t i) { return m.vert[i].cQ(); });
+	copy(attrs.vertTexCoord, nv, vertTex, [&](size_t i) { return m.vert[i].cT(); });
+	copy(attrs.faceColor, nf, faceColour, [&](size_t i) { return m.face[i].cC(); });
+	copy(attrs.wedgeTexCoord, 3 * nf, wedgeTex,
+	     [&](size_t i) { return m.face[i / 3].cWT(int(i % 3)); });
 }
 
 LevelWriter::LevelWriter(const InputMesh &in, const Options &o, const std::string &outdir)
