@@ -38,6 +38,7 @@ gausslod::MeshAttributes layerAttributes(const MeshModel &m)
 	a.vertColor = m.hasDataMask(MeshModel::MM_VERTCOLOR);
 	a.vertQuality = m.hasDataMask(MeshModel::MM_VERTQUALITY);
 	a.vertTexCoord = m.hasDataMask(MeshModel::MM_VERTTEXCOORD);
+	a.vertTexIndex = a.vertTexCoord && m.cm.textures.size() > 1;
 	a.wedgeTexCoord = m.hasDataMask(MeshModel::MM_WEDGTEXCOORD);
 	a.faceColor = m.hasDataMask(MeshModel::MM_FACECOLOR);
 	return a;

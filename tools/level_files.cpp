@@ -97,6 +97,7 @@ bool readInputMesh(const std::string &path, const gausslod::Params &p, InputMesh
 	a.vertColor = (info.mask & Mask::IOM_VERTCOLOR) != 0;
 	a.vertQuality = (info.mask & Mask::IOM_VERTQUALITY) != 0;
 	a.vertTexCoord = (info.mask & Mask::IOM_VERTTEXCOORD) != 0;
+	a.vertTexIndex = a.vertTexCoord && full->textures.size() > 1;
 	a.wedgeTexCoord = (info.mask & Mask::IOM_WEDGTEXCOORD) != 0;
 	a.faceColor = (info.mask & Mask::IOM_FACECOLOR) != 0;
 	a.vertNormal = in.normals;

@@ -1548,6 +1548,26 @@ inline bool readSimplePlyFlat(CheckedFile &c, FlatRead &out, ReadError &e, ReadI
 	return true;
 }
 
+/// What VCG's readers leave unset in per-vertex texture coordinates (TexCoord2's constructor sets
+/// nothing), made defined so that a read is the same whatever memory it got:
+/// - PLY: the texture index (import_ply.h:701-705 sets u and v only): texture 0;
+/// - OFF: everything (import_off.h:360-380 skips them, though its load mask names them): not
+///   loaded, so `mask` no longer names them.
+/// (OBJ sets them per face corner, import_obj.h:682-687, and only into a mesh type without wedge
+/// texture coordinates, which none of ours is.)
+template <class MeshT>
+void settleVertexTexCoords(MeshT &m, Format format, int &mask)
+{
+	using vcg::tri::io::Mask;
+	if (!(mask & Mask::IOM_VERTTEXCOORD) || !vcg::tri::HasPerVertexTexCoord(m))
+		return;
+	if (format == Format::Off)
+		mask &= ~int(Mask::IOM_VERTTEXCOORD);
+	else if (format == Format::Ply)
+		for (auto &v : m.vert)
+			v.T().N() = 0;
+}
+
 /// VCG's importer on a file checkFile() passed; `info` (optional) gets the load mask and an OBJ's
 /// materials.
 template <class MeshT>
@@ -1671,11 +1691,6 @@ bool readChecked(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info)
 		}
 	}
 	c.folder.reset();
-	if (info) {
-		info->fastPly = fastPly;
-		info->fileMask = c.facts.mask;
-		info->mask = mask;
-	}
 	// every face's vertices must lie in m.vert (whatever a reader let through)
 	const uintptr_t lo = m.vert.empty() ? 0 : uintptr_t(m.vert.data()),
 	                hi = lo + m.vert.size() * sizeof(VertexType);
@@ -1685,6 +1700,12 @@ bool readChecked(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info)
 			if (v < lo || v >= hi || (v - lo) % sizeof(VertexType) != 0)
 				return corrupt(e, "face " + num((long long)i) + " points outside the vertex array");
 		}
+	settleVertexTexCoords(m, c.format, mask);
+	if (info) {
+		info->fastPly = fastPly;
+		info->fileMask = c.facts.mask;
+		info->mask = mask;
+	}
 	if (m.vn == 0 && m.fn == 0)
 		return fail(e, ReadStatus::Empty, "the file holds no vertex and no face");
 	return true;

@@ -249,6 +249,29 @@ std::string compareStl(const std::string &path, const std::string &out)
 	return "";
 }
 
+// "" if every per-vertex texture coordinate a read of `path` names is defined (readChecked's
+// settleVertexTexCoords): run with MALLOC_PERTURB_ set, memory VCG's readers leave unset is not 0.
+std::string checkVertexTexCoords(const std::string &path, const char *want)
+{
+	gausslod::IoAttrMesh m;
+	gausslod::ReadError e;
+	gausslod::ReadInfo info;
+	if (!gausslod::importMesh(m, path, e, &info))
+		return "not read: " + e.message;
+	const bool named = (info.mask & M::IOM_VERTTEXCOORD) != 0;
+	if (std::string(want) == "none")
+		return named ? "the mask names vertex texture coordinates VCG does not read" : "";
+	if (!named)
+		return "the mask names no vertex texture coordinates";
+	for (size_t i = 0; i < m.vert.size(); ++i) {
+		const auto &t = m.vert[i].cT();
+		if (t.n() != 0 || !(t.u() >= 0 && t.u() <= 1 && t.v() >= 0 && t.v() <= 1))
+			return "vertex " + std::to_string(i) + ": (" + std::to_string(t.u()) + ", " +
+			       std::to_string(t.v()) + ") texture " + std::to_string(t.n());
+	}
+	return "";
+}
+
 // A binary PLY of `m` (VCG's plain layout unless a variant changes it), written here byte by byte.
 struct Variant {
 	const char *name;
@@ -392,6 +415,31 @@ int main(int argc, char **argv)
 			++failed;
 		}
 		plys.push_back(path);
+	}
+	// per-vertex texture coordinates: a PLY's (index unset by VCG), an OFF's (never read by VCG,
+	// though its mask names them)
+	const struct {
+		const char *name, *text, *want;
+	} uvFiles[] = {
+	    {"uv.ply",
+	     "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+	     "property float z\nproperty float s\nproperty float t\nelement face 2\n"
+	     "property list uchar int vertex_indices\nend_header\n0 0 0 0 0\n1 0 0 1 0\n"
+	     "1 1 0 1 1\n0 1 0 0 1\n3 0 1 2\n3 0 2 3\n",
+	     "settled"},
+	    {"uv.off", "STOFF\n4 2 0\n0 0 0 0 0\n1 0 0 1 0\n1 1 0 1 1\n0 1 0 0 1\n3 0 1 2\n3 0 2 3\n",
+	     "none"}};
+	for (const auto &u : uvFiles) {
+		const std::string path = out + "/" + u.name;
+		if (std::FILE *f = std::fopen(path.c_str(), "wb")) {
+			std::fputs(u.text, f);
+			std::fclose(f);
+		}
+		const std::string d = checkVertexTexCoords(path, u.want);
+		if (!d.empty()) {
+			std::printf("FAIL %s: %s\n", path.c_str(), d.c_str());
+			++failed;
+		}
 	}
 	int fast = 0, flatReads = 0, stlWritten = 0, fastColoured = 0;
 	for (const std::string &p : plys) {

@@ -45,6 +45,9 @@ struct FlatMesh {
 struct MeshAttributes {
 	bool vertColor = false, vertQuality = false, vertTexCoord = false, vertNormal = false;
 	bool wedgeTexCoord = false, faceColor = false;
+	/// vertex texture indices tell textures apart (set with more than one texture: VCG's PLY
+	/// reader, MeshLab's too, leaves them unset, and with one texture they name nothing)
+	bool vertTexIndex = false;
 	bool perVertex() const { return vertColor || vertQuality || vertTexCoord; }
 	bool any() const { return perVertex() || vertNormal || wedgeTexCoord || faceColor; }
 };
@@ -128,7 +131,8 @@ Words3 vertexAttributeKey(const Vertex &v, const MeshAttributes &attrs)
 	if (attrs.vertQuality)
 		k.w[0] |= floatBits(float(v.cQ())) & 0xffffffff00000000ull;
 	if (attrs.vertTexCoord)
-		k.w[1] = floatBits(v.cT().u(), v.cT().v()), k.w[2] = uint16_t(v.cT().n());
+		k.w[1] = floatBits(v.cT().u(), v.cT().v()),
+		k.w[2] = attrs.vertTexIndex ? uint16_t(v.cT().n()) : 0;
 	return k;
 }
 
