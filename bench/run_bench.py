@@ -259,7 +259,9 @@ class Bench:
     def gausslod(self, name, ply, extra=(), tag="gausslod"):
         outdir = os.path.join(self.work, "out", name, tag)
         shutil.rmtree(outdir, ignore_errors=True)
-        r = run([self.exe["gausslod"], "--json"] + list(extra) + [ply, outdir], 3600)
+        # (BENCH_GAUSSLOD_ARGS: options for every GaussLOD run, to measure a variant)
+        variant = os.environ.get("BENCH_GAUSSLOD_ARGS", "").split()
+        r = run([self.exe["gausslod"], "--json"] + variant + list(extra) + [ply, outdir], 3600)
         levels = json_lines(r["stdout"])
         if r["rc"] != 0 or not levels:
             return None, r, fail_reason(r)
