@@ -1551,21 +1551,29 @@ inline bool readSimplePlyFlat(CheckedFile &c, FlatRead &out, ReadError &e, ReadI
 /// What VCG's readers leave unset in per-vertex texture coordinates (TexCoord2's constructor sets
 /// nothing), made defined so that a read is the same whatever memory it got:
 /// - PLY: the texture index (import_ply.h:701-705 sets u and v only): texture 0;
+/// - OBJ (as many `vt` as `v` lines): vertices no face uses (import_obj.h:682-687 sets them per
+///   face corner): (0, 0), texture 0;
 /// - OFF: everything (import_off.h:360-380 skips them, though its load mask names them): not
 ///   loaded, so `mask` no longer names them.
-/// (OBJ sets them per face corner, import_obj.h:682-687, and only into a mesh type without wedge
-/// texture coordinates, which none of ours is.)
 template <class MeshT>
 void settleVertexTexCoords(MeshT &m, Format format, int &mask)
 {
 	using vcg::tri::io::Mask;
 	if (!(mask & Mask::IOM_VERTTEXCOORD) || !vcg::tri::HasPerVertexTexCoord(m))
 		return;
-	if (format == Format::Off)
+	if (format == Format::Off) {
 		mask &= ~int(Mask::IOM_VERTTEXCOORD);
-	else if (format == Format::Ply)
-		for (auto &v : m.vert)
-			v.T().N() = 0;
+		return;
+	}
+	std::vector<unsigned char> used(format == Format::Obj ? m.vert.size() : 0);
+	for (size_t i = 0; i < m.face.size() && !used.empty(); ++i)
+		for (int k = 0; k < 3; ++k)
+			used[size_t(m.face[i].cV(k) - m.vert.data())] = 1;
+	for (size_t i = 0; i < m.vert.size(); ++i)
+		if (used.empty()) // (PLY)
+			m.vert[i].T().N() = 0;
+		else if (!used[i])
+			m.vert[i].T() = typename MeshT::VertexType::TexCoordType(0, 0);
 }
 
 /// VCG's importer on a file checkFile() passed; `info` (optional) gets the load mask and an OBJ's

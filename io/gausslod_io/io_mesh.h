@@ -19,7 +19,12 @@ class IoVertex : public vcg::Vertex<IoUsedTypes, vcg::vertex::Coord3f, vcg::vert
                                     vcg::vertex::Color4b, vcg::vertex::BitFlags> {};
 class IoFace : public vcg::Face<IoUsedTypes, vcg::face::VertexRef, vcg::face::Normal3f,
                                 vcg::face::Color4b, vcg::face::BitFlags> {};
-class IoMesh : public vcg::tri::TriMesh<std::vector<IoVertex>, std::vector<IoFace>> {};
+// (VCG's TriMesh() leaves its attribute counter `attrn` unset, ClearAttributes() sets it; each
+// attribute handle compares its number with it: set here)
+class IoMesh : public vcg::tri::TriMesh<std::vector<IoVertex>, std::vector<IoFace>> {
+public:
+	IoMesh() { attrn = 0; }
+};
 
 class IoAttrVertex;
 class IoAttrFace;
@@ -32,6 +37,9 @@ class IoAttrVertex
 class IoAttrFace
     : public vcg::Face<IoAttrUsedTypes, vcg::face::VertexRef, vcg::face::Normal3f,
                        vcg::face::Color4b, vcg::face::WedgeTexCoord2f, vcg::face::BitFlags> {};
-class IoAttrMesh : public vcg::tri::TriMesh<std::vector<IoAttrVertex>, std::vector<IoAttrFace>> {};
+class IoAttrMesh : public vcg::tri::TriMesh<std::vector<IoAttrVertex>, std::vector<IoAttrFace>> {
+public:
+	IoAttrMesh() { attrn = 0; }
+};
 
 } // namespace gausslod

@@ -416,8 +416,9 @@ int main(int argc, char **argv)
 		}
 		plys.push_back(path);
 	}
-	// per-vertex texture coordinates: a PLY's (index unset by VCG), an OFF's (never read by VCG,
-	// though its mask names them)
+	// per-vertex texture coordinates: a PLY's (index unset by VCG), an OBJ's on a vertex no face
+	// uses (unset; VCG reads them per vertex when there are as many as vertices), an OFF's (never
+	// read by VCG, though its mask names them)
 	const struct {
 		const char *name, *text, *want;
 	} uvFiles[] = {
@@ -426,6 +427,9 @@ int main(int argc, char **argv)
 	     "property float z\nproperty float s\nproperty float t\nelement face 2\n"
 	     "property list uchar int vertex_indices\nend_header\n0 0 0 0 0\n1 0 0 1 0\n"
 	     "1 1 0 1 1\n0 1 0 0 1\n3 0 1 2\n3 0 2 3\n",
+	     "settled"},
+	    {"uv_unused_vertex.obj",
+	     "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 5 5 5\nvt 0 0\nvt 1 0\nvt 1 1\nvt 1 1\nf 1/1 2/2 3/3\n",
 	     "settled"},
 	    {"uv.off", "STOFF\n4 2 0\n0 0 0 0 0\n1 0 0 1 0\n1 1 0 1 1\n0 1 0 0 1\n3 0 1 2\n3 0 2 3\n",
 	     "none"}};
