@@ -13,7 +13,8 @@
 # meshlabserver: $GAUSSLOD_MESHLAB_PREFIX/bin/meshlabserver if that variable is set, else the
 # build tree's private prefix <repo>/build/meshlab-prefix, else the system meshlabserver if the
 # plugin is installed system-wide. An OBJ input needs our OBJ plugin beside it (Debian's MeshLab
-# 2020.09 aborts on every OBJ file without it).
+# 2020.09 aborts on every OBJ file without it). $GAUSSLOD_SERVER_WRAPPER, if set, is put before it
+# (words split at blanks: a debugger or `valgrind --log-file=...`).
 #
 # The input is first read and checked by the gausslod tool ($GAUSSLOD_TOOL, else the build tree's,
 # else gausslod on PATH): the same reader, messages and exit codes as the tool, since Debian's
@@ -167,8 +168,10 @@ done
 log=$tmp/meshlabserver.log
 echo "$me: $server on $input (levels ${levels[*]}) -> $outdir"
 set +e
+# ($GAUSSLOD_SERVER_WRAPPER: words put before meshlabserver, e.g. a valgrind command)
+read -r -a wrapper <<<"${GAUSSLOD_SERVER_WRAPPER:-}"
 XDG_CONFIG_HOME=$tmp/config XDG_RUNTIME_DIR=$tmp/runtime \
-  xvfb-run -a "$server" "${args[@]}" >"$log" 2>&1
+  xvfb-run -a "${wrapper[@]}" "$server" "${args[@]}" >"$log" 2>&1
 rc=$?
 set -e
 

@@ -124,6 +124,7 @@ bool GaussLodObjIOPlugin::open(const QString &format, const QString &fileName, M
 		errorMessage = errorFormat.arg(fileName, ObjImporter::ErrorMsg(result));
 	useLocalTextureNames(m.cm.textures);
 	m.Enable(oi.mask);
+	gausslod::obj::settleUnusedVertexTexCoords(m.cm, oi.mask);
 	mask = oi.mask;
 	return true;
 }

@@ -1551,8 +1551,7 @@ inline bool readSimplePlyFlat(CheckedFile &c, FlatRead &out, ReadError &e, ReadI
 /// What VCG's readers leave unset in per-vertex texture coordinates (TexCoord2's constructor sets
 /// nothing), made defined so that a read is the same whatever memory it got:
 /// - PLY: the texture index (import_ply.h:701-705 sets u and v only): texture 0;
-/// - OBJ (as many `vt` as `v` lines): vertices no face uses (import_obj.h:682-687 sets them per
-///   face corner): (0, 0), texture 0;
+/// - OBJ (as many `vt` as `v` lines): vertices no face uses (obj::settleUnusedVertexTexCoords);
 /// - OFF: everything (import_off.h:360-380 skips them, though its load mask names them): not
 ///   loaded, so `mask` no longer names them.
 template <class MeshT>
@@ -1565,15 +1564,11 @@ void settleVertexTexCoords(MeshT &m, Format format, int &mask)
 		mask &= ~int(Mask::IOM_VERTTEXCOORD);
 		return;
 	}
-	std::vector<unsigned char> used(format == Format::Obj ? m.vert.size() : 0);
-	for (size_t i = 0; i < m.face.size() && !used.empty(); ++i)
-		for (int k = 0; k < 3; ++k)
-			used[size_t(m.face[i].cV(k) - m.vert.data())] = 1;
-	for (size_t i = 0; i < m.vert.size(); ++i)
-		if (used.empty()) // (PLY)
-			m.vert[i].T().N() = 0;
-		else if (!used[i])
-			m.vert[i].T() = typename MeshT::VertexType::TexCoordType(0, 0);
+	if (format == Format::Obj)
+		obj::settleUnusedVertexTexCoords(m, mask);
+	else if (format == Format::Ply)
+		for (auto &v : m.vert)
+			v.T().N() = 0;
 }
 
 /// VCG's importer on a file checkFile() passed; `info` (optional) gets the load mask and an OBJ's

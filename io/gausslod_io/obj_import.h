@@ -153,6 +153,24 @@ bool checkObjForVcg(const char *path, const typename vcg::tri::io::ImporterOBJ<M
 	return true;
 }
 
+/// With as many `vt` as `v` lines VCG's Open reads texture coordinates per vertex, but only at
+/// face corners (import_obj.h:682-687): a vertex no face uses keeps what TexCoord2's constructor
+/// leaves unset. Such vertices get (0, 0), texture 0 (`mask`: the load mask Open read with).
+template <class MeshT>
+void settleUnusedVertexTexCoords(MeshT &m, int mask)
+{
+	if (!(mask & vcg::tri::io::Mask::IOM_VERTTEXCOORD) || !vcg::tri::HasPerVertexTexCoord(m))
+		return;
+	std::vector<unsigned char> used(m.vert.size());
+	for (const auto &f : m.face)
+		if (!f.IsD())
+			for (int k = 0; k < 3; ++k)
+				used[size_t(f.cV(k) - m.vert.data())] = 1;
+	for (size_t i = 0; i < m.vert.size(); ++i)
+		if (!used[i])
+			m.vert[i].T() = typename MeshT::VertexType::TexCoordType(0, 0);
+}
+
 /// LoadMask, the check, Open: `m` holds the file's mesh, or false with `error` set. Expand
 /// GAUSSLOD_FIX_VCG_OBJ_INDICES(MeshT) first (IndexFixFor<MeshT> tells whether it was).
 template <class MeshT>
@@ -171,6 +189,7 @@ bool importObj(MeshT &m, const std::string &path, std::string &error)
 		error = Obj::ErrorMsg(e);
 		return false;
 	}
+	settleUnusedVertexTexCoords(m, oi.mask);
 	return true;
 }
 
