@@ -946,6 +946,28 @@ bool readPlyTriangles(FILE *f, const SimplePly &sp, std::vector<unsigned char> &
 	return true;
 }
 
+/// Reads the fast path's vertex records (sp.vertexBytes each), a batch at a time into `buf`, and
+/// calls put(vertex, xyz, record) for each: its position as the file's floats and its record
+/// (for the colour bytes after them). False at a short read.
+template <class Put>
+bool readPlyVertices(FILE *f, const SimplePly &sp, std::vector<unsigned char> &buf, Put put)
+{
+	buf.resize(sp.vertexBytes * std::min(sp.vertices, kPlyBatch));
+	for (size_t done = 0; done < sp.vertices;) {
+		const size_t n = std::min(sp.vertices - done, kPlyBatch);
+		if (std::fread(buf.data(), sp.vertexBytes, n, f) != n)
+			return false;
+		for (size_t i = 0; i < n; ++i) {
+			const unsigned char *r = &buf[sp.vertexBytes * i];
+			float xyz[3];
+			std::memcpy(xyz, r, sizeof xyz);
+			put(done + i, xyz, r);
+		}
+		done += n;
+	}
+	return true;
+}
+
 /// The layout VCG and MeshLab write for a mesh without attributes, or with vertex colours only:
 /// binary little endian, a vertex element of float x, y, z (then uchar red, green, blue and
 /// optionally alpha), then a face element of one "list uchar int|uint" index list, and no
@@ -1520,19 +1542,13 @@ inline bool readSimplePlyFlat(CheckedFile &c, FlatRead &out, ReadError &e, ReadI
 		return corrupt(e, "PLY: vertex colours cannot be read into flat arrays");
 	out.positions.resize(3 * sp.vertices);
 	out.triangles.resize(3 * sp.faces);
-	std::vector<unsigned char> buf(kPlyVertexBytes * std::min(sp.vertices, kPlyBatch));
+	std::vector<unsigned char> buf;
 	double *p = out.positions.data();
-	for (size_t done = 0; done < sp.vertices;) {
-		const size_t n = std::min(sp.vertices - done, kPlyBatch);
-		if (std::fread(buf.data(), kPlyVertexBytes, n, file.f) != n)
-			return changed();
-		for (size_t i = 0; i < 3 * n; ++i, ++p) {
-			float x;
-			std::memcpy(&x, &buf[4 * i], 4); // (the records are three floats each, packed)
-			*p = double(x);
-		}
-		done += n;
-	}
+	if (!readPlyVertices(file.f, sp, buf, [&](size_t v, const float *xyz, const unsigned char *) {
+		    for (size_t k = 0; k < 3; ++k)
+			    p[3 * v + k] = double(xyz[k]);
+	    }))
+		return changed();
 	int32_t *t = out.triangles.data();
 	if (!readPlyTriangles(file.f, sp, buf,
 	                      [&](size_t face, int k, uint32_t v) { t[3 * face + size_t(k)] = int32_t(v); }))
@@ -1598,25 +1614,18 @@ bool readChecked(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info)
 		// (the colour as Open reads it when the mesh type has one: alpha 255 unless the file
 		// has it, import_ply.h:481-489, 677, 711-717)
 		const bool colour = sp.colour > 0 && vcg::tri::HasPerVertexColor(m);
-		std::vector<unsigned char> buf(sp.vertexBytes * std::min(sp.vertices, kPlyBatch));
+		std::vector<unsigned char> buf;
 		if (sp.vertices) {
-			auto vi = vcg::tri::Allocator<MeshT>::AddVertices(m, sp.vertices);
-			for (size_t done = 0; done < sp.vertices;) {
-				const size_t n = std::min(sp.vertices - done, kPlyBatch);
-				if (std::fread(buf.data(), sp.vertexBytes, n, file.f) != n)
-					return changed();
-				for (size_t i = 0; i < n; ++i, ++vi) {
-					const unsigned char *r = &buf[sp.vertexBytes * i];
-					for (int k = 0; k < 3; ++k) {
-						float x;
-						std::memcpy(&x, r + 4 * size_t(k), 4);
-						(*vi).P()[k] = x;
-					}
-					if (colour) // (a type without colour never gets here: HasPerVertexColor)
-						(*vi).C() = vcg::Color4b(r[12], r[13], r[14], sp.colour == 4 ? r[15] : 255);
-				}
-				done += n;
-			}
+			vcg::tri::Allocator<MeshT>::AddVertices(m, sp.vertices);
+			if (!readPlyVertices(file.f, sp, buf,
+			                     [&](size_t v, const float *xyz, const unsigned char *r) {
+				                     auto &vert = m.vert[v];
+				                     vert.P() = typename MeshT::CoordType(xyz[0], xyz[1], xyz[2]);
+				                     if (colour) // (HasPerVertexColor: a type without never gets here)
+					                     vert.C() = vcg::Color4b(r[12], r[13], r[14],
+					                                             sp.colour == 4 ? r[15] : 255);
+			                     }))
+				return changed();
 		}
 		if (sp.faces) {
 			vcg::tri::Allocator<MeshT>::AddFaces(m, sp.faces);

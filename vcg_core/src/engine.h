@@ -121,13 +121,13 @@ inline double angleDegOfCos(double cosine)
 /// Angle between two unit vectors, degrees.
 inline double angleDeg(const Vec3 &a, const Vec3 &b) { return angleDegOfCos(a.dot(b)); }
 
-/// Distance from p to the segment a-b.
 /// A unit axis of the plane orthogonal to unit N (the projections' U; V = N ^ U).
 inline Vec3 planeAxis(const Vec3 &N)
 {
 	return (std::fabs(N[0]) < 0.9 ? N ^ Vec3(1, 0, 0) : N ^ Vec3(0, 1, 0)).Normalize();
 }
 
+/// Distance from p to the segment a-b.
 inline double pointSegmentDistance(const Vec3 &p, const Vec3 &a, const Vec3 &b)
 {
 	const Vec3 ab = b - a;
@@ -173,8 +173,7 @@ struct FaceGrid {
 	template <class Fn>
 	void forBox(const Vec3 &a, const Vec3 &b, Fn fn) const
 	{
-		forBuckets(
-		    a, b, [](uint64_t) { return false; }, fn);
+		forBuckets(a, b, [](uint64_t) { return false; }, fn);
 	}
 
 	/// forBox, but with a unit direction `t`: only the buckets that may hold a face whose normal
@@ -184,8 +183,7 @@ struct FaceGrid {
 	void forBoxFacingAway(const Vec3 &a, const Vec3 &b, const Vec3 &t, const Normals &normals,
 	                      Fn fn) const
 	{
-		forBuckets(
-		    a, b, [&](uint64_t c) { return allFacing(coneOf(c, normals), t); }, fn);
+		forBuckets(a, b, [&](uint64_t c) { return allFacing(coneOf(c, normals), t); }, fn);
 	}
 
 	/// forBox, skipping the buckets c with skip(c).
