@@ -171,28 +171,6 @@ void settleUnusedVertexTexCoords(MeshT &m, int mask)
 			m.vert[i].T() = typename MeshT::VertexType::TexCoordType(0, 0);
 }
 
-/// LoadMask, the check, Open: `m` holds the file's mesh, or false with `error` set. Expand
-/// GAUSSLOD_FIX_VCG_OBJ_INDICES(MeshT) first (IndexFixFor<MeshT> tells whether it was).
-template <class MeshT>
-bool importObj(MeshT &m, const std::string &path, std::string &error)
-{
-	using Obj = vcg::tri::io::ImporterOBJ<MeshT>;
-	typename Obj::Info oi;
-	if (!Obj::LoadMask(path.c_str(), oi)) {
-		error = "cannot read the file, or it is empty";
-		return false;
-	}
-	if (!checkObjForVcg<MeshT>(path.c_str(), oi, error))
-		return false;
-	const int e = Obj::Open(m, path.c_str(), oi);
-	if (Obj::ErrorCritical(e)) {
-		error = Obj::ErrorMsg(e);
-		return false;
-	}
-	settleUnusedVertexTexCoords(m, oi.mask);
-	return true;
-}
-
 } // namespace obj
 } // namespace gausslod
 
