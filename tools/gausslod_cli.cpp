@@ -347,12 +347,13 @@ std::string levelJson(const gausslod::Params &p, const Outcome &o, size_t i)
 	              "\"unmeasured_faces\":%zu,"
 	              "\"seconds\":%.4f,\"seconds_partition\":%.4f,\"seconds_borders\":%.4f,"
 	              "\"seconds_triangulation\":%.4f,\"seconds_checks\":%.4f,"
-	              "\"seconds_placement\":%.4f,\"rounds\":%d,"
-	              "\"reused_finer\":%s,\"distance_bound_pct\":%s,%s",
+	              "\"seconds_placement\":%.4f,\"seconds_collapse\":%.4f,\"rounds\":%d,"
+	              "\"collapses\":%zu,\"reused_finer\":%s,\"distance_bound_pct\":%s,%s",
 	              s.level, s.faces, s.vertices, s.superfaces, s.fallbacks, s.retriangulated,
 	              s.carriedSuperfaces, s.boundDeg, s.maxNormalDevDeg, s.meanNormalDevDeg,
 	              s.unmeasuredFaces, s.seconds, s.secondsPartition, s.secondsBorders,
-	              s.secondsTriangulation, s.secondsChecks, s.secondsPlacement, s.rounds,
+	              s.secondsTriangulation, s.secondsChecks, s.secondsPlacement, s.secondsCollapse,
+	              s.rounds, s.collapses,
 	              s.reusedFiner ? "true" : "false", dist, placed);
 	std::string json = buf + repairsJson(s.input) + "," + attributesJson(o, s) + "," +
 	                   targetJson(p, s) + ",\"file\":" + jsonString(o.files[i]);

@@ -137,6 +137,15 @@ struct Params {
 	/// over-tessellated plane costs. Off only for comparison (it is not a trade-off, hence no
 	/// filter or tool parameter); skipped for an input with texture coordinates.
 	bool coplanarFirst = true;
+	/// Beyond the paper (docs/DESIGN.md, 50; angle levels with the distance tolerance): each
+	/// coarser level is also made from the finer level as delivered by half-edge collapses, the
+	/// least distance first, each with a proven distance bound and within the level's normal
+	/// limit; that mesh is the level when it gets down to the superface level's face count
+	/// within the superface level's distance bound (so the face counts are the same, and the
+	/// error bound no larger). Vertices stay the finer level's (input vertices, where placed
+	/// moved along their normal). Not for inputs with texture coordinates or kept faces. Off
+	/// only for comparison (hence no filter or tool parameter).
+	bool collapseLevels = true;
 	/// Input repair, as MeshLab does to STL files on import: vertices at exactly the same position
 	/// become one (the first in index order), so that a triangle soup (STL, most CAD and BIM
 	/// exports) is simplified like the welded mesh. Faces then refer to that first vertex; the
@@ -275,6 +284,7 @@ struct LevelStats {
 	double secondsTriangulation = 0; ///< re-triangulation and deviation measurement (2.4)
 	double secondsChecks = 0;    ///<  whole-level validity check and fallback bookkeeping
 	double secondsPlacement = 0; ///<  vertex placement and its checks (Params::placeVertices)
+	double secondsCollapse = 0;  ///<  DESIGN 50: collapses of the finer level (whether taken or not)
 	int rounds = 0;              ///< build rounds (1 + rounds caused by fallbacks)
 	/// Levels by target (Params::levelFaces / levelDistances); in angle mode targetFaces = 0,
 	/// targetDistance = -1 and targetReached = true.
@@ -284,6 +294,10 @@ struct LevelStats {
 	double tolerance = 0;        ///< the distance tolerance the level was built with, fraction of
 	                             ///< the diagonal (0 = none); faces mode: the one the search chose
 	int trials = 1;              ///< builds of the level (faces mode: the tolerance search's)
+	/// DESIGN 50: half-edge collapses of the finer level that made this level (0 = the
+	/// superface build's mesh). Its normal deviations are then bounds (each triangle against
+	/// the cone of the input normals it stands for), not measures.
+	size_t collapses = 0;
 	bool reusedFiner = false;    ///< the merged partition gave more faces than the next finer
 	                             ///< level (or, in angle mode, a larger distance bound with not
 	                             ///< 1 % fewer faces: DESIGN 29): this level is that level's mesh
@@ -307,6 +321,10 @@ struct LevelMesh {
 	/// With MeshView::wantSources: per output face, an input face of its superface (with keys,
 	/// every face of a superface has the same faceKey).
 	std::vector<int32_t> sourceFace;
+	/// With the distance tolerance: per superface, its proven distance bound (mesh units; the
+	/// level's LevelStats::distanceBound is the largest). What a coarser level's collapses
+	/// start from (DESIGN 50).
+	std::vector<float> superfaceBound;
 	LevelStats stats;
 };
 

@@ -2,6 +2,7 @@
 // then level by level from fine to coarse: geometry of the level, then the partition of the next
 // coarser level by merging sibling cells.
 #include "engine.h"
+#include "level_collapse.h"
 #include "level_passes.h"
 
 #include <algorithm>
@@ -503,6 +504,10 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 		// faces mode: parts[level] is the level's merged partition before its fallbacks (what
 		// the coarser levels merge), levelPart the one its mesh has (see DESIGN.md)
 		Partition merged, levelPart;
+		// DESIGN 50: the finer level as delivered, for the next level's collapses
+		const bool collapsing = byAngle && params.collapseLevels && params.maxDistance > 0 &&
+		                        !topo.UV && !mesh.keepFace;
+		CollapseSource delivered, collapsed;
 		for (int level = finest; level >= 0; --level) {
 			const auto tl = std::chrono::steady_clock::now();
 			if (!report(0.05 + 0.95 * double(finest - level) / params.maxLevel, "building level"))
@@ -567,6 +572,30 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 				               finer, finerPlaced, lm);
 				nextCarry = ExactCarry(); // (its superfaces are not this level's)
 			}
+			// DESIGN 50: the level from the finer level as delivered, by collapses, if they get to
+			// this level's face count within its distance bound
+			bool takeCollapsed = false;
+			double secondsCollapse = 0;
+			if (collapsing && level < finest && !delivered.empty()) {
+				const auto tc = std::chrono::steady_clock::now();
+				if (delivered.mesh.stats.collapses > 0 &&
+				    delivered.mesh.triangles.size() / 3 <= lm.stats.faces) {
+					collapsed = delivered; // (the superface level is no lighter: it is that level)
+					collapsed.mesh.stats.collapses = 0;
+					takeCollapsed = true;
+				} else if (lm.stats.distanceBound > 0) {
+					CollapseLimits lim;
+					lim.faces = lm.stats.faces;
+					lim.bound = lm.stats.distanceBound;
+					lim.normalDeg = params.normalLimit > 0
+					                    ? std::min(90.0, params.normalLimit * levelBoundDeg(level))
+					                    : 90.0;
+					lim.featureDeg = params.featureAngle;
+					lim.placement = params.placeVertices ? 0.5 * tolerance * topo.diagonal : 0.0;
+					takeCollapsed = collapseLevel(topo, mesh, delivered, lim, threads, collapsed);
+				}
+				secondsCollapse = since(tc);
+			}
 			std::swap(carry, nextCarry);
 			if (byFaces) {
 				levelPart = std::move(parts[size_t(level)]);
@@ -577,7 +606,25 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			lm.stats.trials = trials;
 			setTargetStats(params, level, target, topo.diagonal, lm.stats);
 			lm.stats.input = res.input;
-			if (const size_t lost = uncoveredFaces(topo, lm))
+			lm.stats.secondsCollapse = secondsCollapse;
+			if (takeCollapsed) { // (the superface level's stats, but for what the mesh says)
+				const LevelStats c = collapsed.mesh.stats;
+				LevelStats &st = collapsed.mesh.stats;
+				st = lm.stats;
+				st.faces = c.faces;
+				st.vertices = c.vertices;
+				st.superfaces = c.superfaces;
+				st.maxNormalDevDeg = c.maxNormalDevDeg;
+				st.meanNormalDevDeg = c.meanNormalDevDeg;
+				st.unmeasuredFaces = c.unmeasuredFaces;
+				st.distanceBound = c.distanceBound;
+				st.placedVertices = c.placedVertices;
+				st.maxPlacement = c.maxPlacement;
+				st.collapses = c.collapses;
+				st.reusedFiner = st.reusedFiner || c.collapses == 0;
+			}
+			const LevelMesh &out = takeCollapsed ? collapsed.mesh : lm;
+			if (const size_t lost = uncoveredFaces(topo, out))
 				return fail(res, ErrorKind::Internal,
 				            "internal error: level " + std::to_string(level) +
 				                " lost the surface of " + std::to_string(lost) +
@@ -585,8 +632,8 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			const bool wanted = params.outputLevels & (1u << level);
 			LevelMesh mapped; // (the level on the input's faces, if it was built on fewer)
 			if (wanted && (reduced || compacted))
-				mapped = toInput(lm);
-			const LevelMesh &given = wanted && (reduced || compacted) ? mapped : lm;
+				mapped = toInput(out);
+			const LevelMesh &given = wanted && (reduced || compacted) ? mapped : out;
 			if (wanted && sink && !sink(given))
 				return fail(res, ErrorKind::Cancelled, "cancelled");
 			if (wanted && !sink) {
@@ -595,6 +642,13 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 				res.levels.emplace_back();
 				res.levels.back().stats = given.stats;
 			}
+			if (collapsing && level > 0) {
+				if (takeCollapsed)
+					delivered = std::move(collapsed);
+				else
+					collapseSourceOf(topo, lm, delivered);
+			}
+			collapsed.clear();
 			finer = std::move(lm);
 			// (kept for a coarser level that comes out with more faces; until then its positions
 			// and input labels are only memory: they are rebuilt from the input and the partition,

@@ -649,8 +649,16 @@ void LevelRounds::fillStats(size_t fallbacks, size_t vertices)
 	st.maxNormalDevDeg = maxDev;
 	st.meanNormalDevDeg = area > 0 ? sum / area : 0;
 	st.unmeasuredFaces = unmeasured;
-	if (!measures_.gap.empty())
+	if (!measures_.gap.empty()) {
 		st.distanceBound = double(*std::max_element(measures_.gap.begin(), measures_.gap.end()));
+		out_.superfaceBound.assign(st.superfaces, 0.0f);
+		for (size_t f = 0; f < t_.nF; ++f) {
+			const int32_t s = p_.label[f];
+			if (s >= 0)
+				out_.superfaceBound[size_t(s)] =
+				    std::max(out_.superfaceBound[size_t(s)], measures_.gap[f]);
+		}
+	}
 	if (!measures_.tex.empty())
 		st.maxTexError = double(*std::max_element(measures_.tex.begin(), measures_.tex.end()));
 }

@@ -172,6 +172,14 @@ std::vector<Entry> makeEntries()
 	      "texture. 0 = no limit. Each level reports the largest error measured.",
 	      d.maxTexError, 0, kInf, false, true},
 	     &Params::maxTexError},
+	    {{"collapseLevels", K::Flag, "Collapse the finer level",
+	      "coarser levels also by collapses of the finer level where they reach its face count",
+	      "Beyond the paper (docs/DESIGN.md, 50): each coarser angle level is also made from the "
+	      "finer level by half-edge collapses with a proven distance bound, and is that mesh "
+	      "when it reaches the superface level's face count within its distance bound. For "
+	      "comparison only: not a parameter of the filter.",
+	      double(d.collapseLevels), 0, 1, false, false},
+	     &Params::collapseLevels},
 	    {{"threads", K::Integer, "Worker threads", "worker threads, 0 = one per core",
 	      "Worker threads, 0 = one per core (at most 64); the output does not depend on it.",
 	      double(d.threads), 0, kInf, false, false},
