@@ -378,3 +378,35 @@ TEST(ErrorBound, levels_on_coplanar_regions_first_hold_their_bound_for_any_threa
 		EXPECT_EQ(c.levels[i].positions, d.levels[i].positions) << i;
 	}
 }
+
+// DESIGN 50: a level made by collapses of the finer level has the superface level's face count at
+// most and its distance bound at most, and the bound holds against the sampled distance; the
+// collapses are taken on curved models (so that the test tests them).
+TEST(ErrorBound, collapsed_levels_keep_the_superface_levels_counts_and_bounds)
+{
+	size_t collapsed = 0, levels = 0;
+	double worst = 0;
+	for (const char *name : {"cow.off", "bunny00.off", "camel.off", "elephant.off", "fandisk.off"}) {
+		SCOPED_TRACE(name);
+		const FlatMesh m = loadOff(name);
+		Params off;
+		off.collapseLevels = false;
+		const Result a = buildLevels(m.view(), Params()), b = buildLevels(m.view(), off);
+		ASSERT_TRUE(a.ok && b.ok);
+		ASSERT_EQ(a.levels.size(), b.levels.size());
+		for (size_t i = 0; i < a.levels.size(); ++i) {
+			const LevelStats &s = a.levels[i].stats, &t = b.levels[i].stats;
+			SCOPED_TRACE("LOD" + std::to_string(s.level));
+			EXPECT_LE(s.faces, t.faces);
+			EXPECT_LE(s.distanceBound, t.distanceBound);
+			EXPECT_LE(s.maxNormalDevDeg, s.boundDeg + 1e-9);
+			if (s.collapses == 0) // (the superface level itself, or the finer level kept)
+				EXPECT_TRUE(s.faces == t.faces || s.reusedFiner);
+			collapsed += s.collapses > 0;
+		}
+		checkBound(name, m, Params(), levels, worst);
+	}
+	EXPECT_GE(collapsed, 8u);
+	std::printf("%zu levels made by collapses; sampled distance / bound at most %.3f\n", collapsed,
+	            worst);
+}

@@ -14,8 +14,6 @@
 // and each must stay within the level's normal limit of it.
 #include "level_collapse.h"
 
-#include <cstdio>
-#include <cstdlib>
 #include <array>
 #include <cstring>
 #include <functional>
@@ -52,8 +50,6 @@ NormalCone mergeCones(const NormalCone &a, const NormalCone &b)
 	return {axis, half};
 }
 
-#include <atomic>
-std::atomic<long> g_rej[8];
 // A quadric (sum of weighted squared distances to planes): A (symmetric 3x3), b, c of
 // x'Ax + 2b'x + c, as a00 a01 a02 a11 a12 a22 b0 b1 b2 c.
 using Quadric = std::array<double, 10>;
@@ -81,7 +77,7 @@ double quadricStep(const Quadric &q, const Vec3 &p, const Vec3 &n, double &curv)
 struct Eval {
 	double gap = 0, bound = 0;
 	int nFan = 0;
-	NormalCone cone[kMaxRing]; // (per fan triangle, in ring order)
+	uint32_t under[kMaxRing]; // (per fan triangle, in ring order: the ring triangles under it)
 };
 
 struct P2 {
@@ -92,6 +88,7 @@ struct P2 {
 struct Ring {
 	int n = 0, nLink = 0;
 	int32_t face[kMaxRing];
+	int8_t corner[kMaxRing][3]; // (per ring triangle corner: its index in link, -1 = v)
 	int32_t link[2 * kMaxRing];
 	P2 pLink[2 * kMaxRing];
 	P2 pv;
@@ -120,7 +117,6 @@ bool overlap(const P2 *a, const P2 *b, double eps)
 struct Entry {
 	double cost;
 	int32_t v, u;
-	uint32_t stamp;
 	bool operator<(const Entry &o) const // (the heap's top: least cost, then lowest v, u)
 	{
 		if (cost != o.cost)
@@ -151,8 +147,10 @@ private:
 	std::vector<uint8_t> alive_, locked_, made_;
 	std::vector<double> e_;
 	std::vector<NormalCone> cone_;
+	std::vector<double> devBound_; // (per made triangle: the largest deviation from the input normals it stands for)
+	std::vector<double> cosRoom_; // (per triangle: cos of what its cone leaves of the limit)
 	std::vector<Quadric> Q_;
-	std::vector<uint32_t> stamp_;
+	std::vector<uint8_t> queued_; // (a vertex's collapse is in the heap)
 	std::vector<int32_t> scratch_;
 	std::priority_queue<Entry> heap_;
 	size_t live_ = 0, collapses_ = 0;
@@ -162,6 +160,12 @@ private:
 		const Vec3 &a = P_[size_t(T_[3 * f])], &b = P_[size_t(T_[3 * f + 1])],
 		           &c = P_[size_t(T_[3 * f + 2])];
 		return (b - a) ^ (c - a);
+	}
+	// A normal n is within the limit of every normal of cone c iff n . c.axis >= cosRoom(c).
+	double cosRoom(const NormalCone &c) const
+	{
+		const double room = lim_.normalDeg - c.half;
+		return room < 0 ? 2.0 : room >= 180 ? -2.0 : std::cos(room * M_PI / 180);
 	}
 	int32_t find(int32_t s)
 	{
@@ -202,13 +206,16 @@ private:
 	}
 	void lockEdges();
 	bool prepare(int32_t v, Ring &r) const;
-	bool evaluate(int32_t v, int32_t u, Ring &r, Eval &ev) const;
+	/// False if the collapse is not allowed, or its gap is not below `worse`.
+	bool evaluate(int32_t v, int32_t u, Ring &r, Eval &ev, double worse = HUGE_VAL) const;
 	bool best(int32_t v, Entry &e) const;
 	void pushBest(int32_t v)
 	{
 		Entry e;
-		if (best(v, e))
+		if (best(v, e)) {
 			heap_.push(e);
+			queued_[size_t(v)] = 1;
+		}
 	}
 	void collapse(int32_t v, int32_t u, const Eval &ev);
 	void prune(int32_t v);
@@ -257,7 +264,7 @@ void Collapser::lockEdges()
 bool Collapser::prepare(int32_t v, Ring &r) const
 {
 	if (locked_[size_t(v)] || head_[size_t(v)] < 0)
-		return ++g_rej[7], false;
+		return false;
 	r.n = ring(v, r.face);
 	if (r.n < 3)
 		return false;
@@ -295,18 +302,22 @@ bool Collapser::prepare(int32_t v, Ring &r) const
 		int k = 0;
 		while (T_[size_t(3 * f + k)] != v)
 			++k;
-		const P2 p1 = r.pLink[linkIndex(T_[size_t(3 * f + (k + 1) % 3)])];
-		const P2 p2 = r.pLink[linkIndex(T_[size_t(3 * f + (k + 2) % 3)])];
+		const int i1 = linkIndex(T_[size_t(3 * f + (k + 1) % 3)]);
+		const int i2 = linkIndex(T_[size_t(3 * f + (k + 2) % 3)]);
+		r.corner[i][k] = -1;
+		r.corner[i][(k + 1) % 3] = int8_t(i1);
+		r.corner[i][(k + 2) % 3] = int8_t(i2);
+		const P2 p1 = r.pLink[i1], p2 = r.pLink[i2];
 		const double x1 = p1.x - r.pv.x, y1 = p1.y - r.pv.y, x2 = p2.x - r.pv.x, y2 = p2.y - r.pv.y;
 		wind += std::atan2(x1 * y2 - y1 * x2, x1 * x2 + y1 * y2);
 		r.bound = std::max(r.bound, e_[size_t(f)]);
 	}
 	if (std::fabs(wind - 2 * M_PI) > kWinding) // (the ring winds once around v)
-		return ++g_rej[6], false;
+		return false;
 	return r.bound < lim_.bound;
 }
 
-bool Collapser::evaluate(int32_t v, int32_t u, Ring &r, Eval &ev) const
+bool Collapser::evaluate(int32_t v, int32_t u, Ring &r, Eval &ev, double worse) const
 {
 	// u shares exactly two triangles with v, and exactly two neighbours (the link condition:
 	// the collapse keeps a 2-manifold)
@@ -315,7 +326,7 @@ bool Collapser::evaluate(int32_t v, int32_t u, Ring &r, Eval &ev) const
 		for (int k = 0; k < 3; ++k)
 			shared += T_[size_t(3 * r.face[i] + k)] == u;
 	if (shared != 2)
-		return ++g_rej[0], false;
+		return false;
 	int common = 0, nU = 0;
 	for (int32_t c = head_[size_t(u)]; c >= 0; c = next_[size_t(c)]) {
 		if (!alive_[size_t(heFace(c))])
@@ -329,7 +340,7 @@ bool Collapser::evaluate(int32_t v, int32_t u, Ring &r, Eval &ev) const
 			common += r.link[i] == w;
 	}
 	if (common != 2)
-		return ++g_rej[1], false;
+		return false;
 	int iu = 0;
 	while (r.link[iu] != u)
 		++iu;
@@ -350,14 +361,12 @@ bool Collapser::evaluate(int32_t v, int32_t u, Ring &r, Eval &ev) const
 		const Vec3 nt = (P_[size_t(tri[1])] - P_[size_t(tri[0])]) ^ (P_[size_t(tri[2])] - P_[size_t(tri[0])]);
 		const double len = nt.Norm();
 		if (!(len > 0) || nt.dot(r.dir) < kFacing * len)
-			return ++g_rej[2], false;
+			return false;
+		if (nt.dot(cone_[size_t(f)].axis) < cosRoom_[size_t(f)] * len) // (its own ring triangle
+			return false;                                           // is under it: see below)
 		P2 q[3];
-		for (int k = 0; k < 3; ++k) {
-			int j = 0;
-			while (r.link[j] != tri[k])
-				++j;
-			q[k] = r.pLink[j];
-		}
+		for (int k = 0; k < 3; ++k)
+			q[k] = r.corner[i][k] < 0 ? pu : r.pLink[r.corner[i][k]];
 		const double d = (q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[1].y - q[0].y) * (q[2].x - q[0].x);
 		const double l1 = ((q[1].x - pv.x) * (q[2].y - pv.y) - (q[1].y - pv.y) * (q[2].x - pv.x)) / d;
 		const double l2 = ((q[2].x - pv.x) * (q[0].y - pv.y) - (q[2].y - pv.y) * (q[0].x - pv.x)) / d;
@@ -366,7 +375,9 @@ bool Collapser::evaluate(int32_t v, int32_t u, Ring &r, Eval &ev) const
 			gap = std::max(gap, std::fabs(pv.h - (l1 * q[0].h + l2 * q[1].h + l3 * q[2].h)));
 	}
 	if (gap < 0) // (v is over no triangle of the fan: the outline is not star-shaped from u)
-		return ++g_rej[3], false;
+		return false;
+	if (gap >= worse || r.bound + gap > lim_.bound) // (no better than what the caller has)
+		return false;
 	// where a spoke of v (v-w) crosses a spoke of u (u-x)
 	const double qx = pu.x - pv.x, qy = pu.y - pv.y;
 	for (int i = 0; i < r.nLink; ++i) {
@@ -391,25 +402,14 @@ bool Collapser::evaluate(int32_t v, int32_t u, Ring &r, Eval &ev) const
 	// (rounding: the gap is computed in doubles from coordinates of that precision)
 	gap += 1e-12 * t_.diagonal;
 	if (r.bound + gap > lim_.bound)
-		return ++g_rej[4], false;
+		return false;
 	// each fan triangle stands for the input normals of the ring triangles under it: within the
 	// limit of them all
 	const double eps = 1e-9 * t_.diagonal;
 	P2 ringTri[kMaxRing][3];
-	for (int i = 0; i < r.n; ++i) {
-		const int32_t f = r.face[i];
-		for (int k = 0; k < 3; ++k) {
-			const int32_t w = T_[size_t(3 * f + k)];
-			if (w == v) {
-				ringTri[i][k] = pv;
-			} else {
-				int j = 0;
-				while (r.link[j] != w)
-					++j;
-				ringTri[i][k] = r.pLink[j];
-			}
-		}
-	}
+	for (int i = 0; i < r.n; ++i)
+		for (int k = 0; k < 3; ++k)
+			ringTri[i][k] = r.corner[i][k] < 0 ? pv : r.pLink[r.corner[i][k]];
 	ev.nFan = 0;
 	for (int i = 0; i < r.n; ++i) {
 		const int32_t f = r.face[i];
@@ -420,21 +420,21 @@ bool Collapser::evaluate(int32_t v, int32_t u, Ring &r, Eval &ev) const
 			tri[k] = T_[size_t(3 * f + k)];
 			hasU = hasU || tri[k] == u;
 			tri[k] = tri[k] == v ? u : tri[k];
-			fan[k] = ringTri[i][k].x == pv.x && ringTri[i][k].y == pv.y && T_[size_t(3 * f + k)] == v
-			             ? pu
-			             : ringTri[i][k];
+			fan[k] = r.corner[i][k] < 0 ? pu : ringTri[i][k];
 		}
 		if (hasU)
 			continue;
-		NormalCone c = cone_[size_t(f)]; // (its own ring triangle overlaps it: v is over the fan)
-		for (int j = 0; j < r.n; ++j)
-			if (j != i && overlap(fan, ringTri[j], eps))
-				c = mergeCones(c, cone_[size_t(r.face[j])]);
 		Vec3 nt = (P_[size_t(tri[1])] - P_[size_t(tri[0])]) ^ (P_[size_t(tri[2])] - P_[size_t(tri[0])]);
 		nt.Normalize();
-		if (angleDeg(nt, c.axis) + c.half > lim_.normalDeg)
-			return ++g_rej[5], false;
-		ev.cone[ev.nFan++] = c;
+		uint32_t under = 0;
+		for (int j = 0; j < r.n; ++j) // (its own ring triangle is under it: v is over the fan)
+			if (j == i || overlap(fan, ringTri[j], eps)) {
+				const int32_t g = r.face[j];
+				if (nt.dot(cone_[size_t(g)].axis) < cosRoom_[size_t(g)])
+					return false;
+				under |= 1u << j;
+			}
+		ev.under[ev.nFan++] = under;
 	}
 	ev.gap = gap;
 	ev.bound = r.bound + gap;
@@ -451,12 +451,12 @@ bool Collapser::best(int32_t v, Entry &e) const
 	int32_t bestU = -1;
 	for (int i = 0; i < r.nLink; ++i) {
 		const int32_t u = r.link[i];
-		if (evaluate(v, u, r, ev) && (bestU < 0 || ev.gap < bestGap))
+		if (evaluate(v, u, r, ev, bestU < 0 ? HUGE_VAL : bestGap))
 			bestGap = ev.gap, bestU = u;
 	}
 	if (bestU < 0)
 		return false;
-	e = {bestGap, v, bestU, stamp_[size_t(v)]};
+	e = {bestGap, v, bestU};
 	return true;
 }
 
@@ -489,8 +489,9 @@ void Collapser::collapse(int32_t v, int32_t u, const Eval &ev)
 			if (T_[size_t(c)] == u && !srcCorner_.empty())
 				uSource = srcCorner_[size_t(c)];
 	}
-	int32_t gone[2];
-	int nGone = 0, fan = 0;
+	int32_t gone[2], coneOf[kMaxRing];
+	int nGone = 0, fan = 0, nCones = 0;
+	NormalCone cones[kMaxRing]; // (merged from the ring's cones before any is replaced)
 	for (int i = 0; i < nR; ++i) {
 		const int32_t f = faces[i];
 		bool hasU = false;
@@ -511,8 +512,26 @@ void Collapser::collapse(int32_t v, int32_t u, const Eval &ev)
 					srcCorner_[size_t(c)] = uSource;
 			}
 		e_[size_t(f)] = ev.bound;
-		cone_[size_t(f)] = ev.cone[fan++];
+		// (its deviation bound: from each cone it stands for, the union's exactly; the merged
+		// cone, which holds them all, is what the next collapses check against)
+		Vec3 nt = normal(f);
+		nt.Normalize();
+		double dev = angleDeg(nt, cone_[size_t(f)].axis) + cone_[size_t(f)].half;
+		cones[nCones] = cone_[size_t(f)];
+		for (int j = 0; j < nR; ++j)
+			if (j != i && (ev.under[fan] >> j & 1)) {
+				const NormalCone &c = cone_[size_t(faces[j])];
+				dev = std::max(dev, angleDeg(nt, c.axis) + c.half);
+				cones[nCones] = mergeCones(cones[nCones], c);
+			}
+		devBound_[size_t(f)] = dev;
+		coneOf[nCones++] = f;
+		++fan;
 		made_[size_t(f)] = 1;
+	}
+	for (int k = 0; k < nCones; ++k) {
+		cone_[size_t(coneOf[k])] = cones[k];
+		cosRoom_[size_t(coneOf[k])] = cosRoom(cones[k]);
 	}
 	for (size_t i = 0; i < 10; ++i)
 		Q_[size_t(u)][i] += Q_[size_t(v)][i];
@@ -526,18 +545,17 @@ void Collapser::collapse(int32_t v, int32_t u, const Eval &ev)
 	prune(u);
 	for (int i = 0; i < nGone; ++i)
 		prune(gone[i]);
-	// every vertex whose ring changed gets a new best collapse
-	++stamp_[size_t(v)];
+	// a vertex whose ring changed and has no collapse waiting gets its best one; one that has
+	// keeps it (it is checked again when its turn comes: lazy, as in quadric simplifiers)
 	scratch_.clear();
 	for (int32_t c = head_[size_t(u)]; c >= 0; c = next_[size_t(c)])
 		for (int32_t q = 3 * heFace(c); q < 3 * heFace(c) + 3; ++q)
 			scratch_.push_back(T_[size_t(q)]);
 	std::sort(scratch_.begin(), scratch_.end());
 	scratch_.erase(std::unique(scratch_.begin(), scratch_.end()), scratch_.end());
-	for (int32_t w : scratch_) { // (pushBest does not use scratch_)
-		++stamp_[size_t(w)];
-		pushBest(w);
-	}
+	for (int32_t w : scratch_) // (pushBest does not use scratch_)
+		if (!queued_[size_t(w)])
+			pushBest(w);
 }
 
 bool Collapser::withinLimit(int32_t f) const
@@ -584,8 +602,15 @@ void Collapser::place()
 			P_[v] = old;
 			continue;
 		}
-		for (int32_t c = head_[v]; c >= 0; c = next_[size_t(c)])
-			e_[size_t(heFace(c))] += std::fabs(t);
+		for (int32_t c = head_[v]; c >= 0; c = next_[size_t(c)]) {
+			const int32_t f = heFace(c);
+			e_[size_t(f)] += std::fabs(t);
+			if (made_[size_t(f)]) {
+				Vec3 n2 = normal(f);
+				n2.Normalize();
+				devBound_[size_t(f)] = angleDeg(n2, cone_[size_t(f)].axis) + cone_[size_t(f)].half;
+			}
+		}
 	}
 }
 
@@ -626,6 +651,10 @@ bool Collapser::run(CollapseSource &out)
 			                   move[size_t(T_[3 * f + 2])]});
 	}
 	cone_ = src_.cone;
+	devBound_.assign(nT, 0.0);
+	cosRoom_.resize(nT);
+	for (size_t f = 0; f < nT; ++f)
+		cosRoom_[f] = cosRoom(cone_[f]);
 	// each vertex's quadric: the planes of the finer level's triangles around it (for placement)
 	Q_.assign(nV, Quadric{});
 	for (size_t f = 0; f < nT; ++f) {
@@ -645,7 +674,7 @@ bool Collapser::run(CollapseSource &out)
 	uf_.resize(size_t(sfCount));
 	for (int32_t s = 0; s < sfCount; ++s)
 		uf_[size_t(s)] = s;
-	stamp_.assign(nV, 0);
+	queued_.assign(nV, 0);
 	{ // (each vertex's best collapse, in parallel; then one heap of them)
 		std::vector<Entry> first(nV);
 		std::vector<uint8_t> has(nV, 0);
@@ -656,8 +685,10 @@ bool Collapser::run(CollapseSource &out)
 		std::vector<Entry> all;
 		all.reserve(nV);
 		for (size_t v = 0; v < nV; ++v)
-			if (has[v])
+			if (has[v]) {
 				all.push_back(first[v]);
+				queued_[v] = 1;
+			}
 		heap_ = std::priority_queue<Entry>(std::less<Entry>(), std::move(all));
 	}
 	Eval ev;
@@ -665,19 +696,16 @@ bool Collapser::run(CollapseSource &out)
 	while (live_ > lim_.faces && !heap_.empty()) {
 		const Entry top = heap_.top();
 		heap_.pop();
-		if (top.stamp != stamp_[size_t(top.v)] || head_[size_t(top.v)] < 0)
+		queued_[size_t(top.v)] = 0;
+		if (head_[size_t(top.v)] < 0)
 			continue;
-		if (!prepare(top.v, r) || !evaluate(top.v, top.u, r, ev) || ev.gap > top.cost) {
-			++stamp_[size_t(top.v)];
+		if (!prepare(top.v, r) || !evaluate(top.v, top.u, r, ev, std::nextafter(top.cost, HUGE_VAL))) {
 			pushBest(top.v);
 			continue;
 		}
 		collapse(top.v, top.u, ev);
 		++collapses_;
 	}
-	if (std::getenv("GLOD_DBG"))
-		std::fprintf(stderr, "run: %zu -> %zu (target %zu) collapses %zu cap %.6g\n", T_.size() / 3, live_, lim_.faces, collapses_, lim_.bound);
-	if (std::getenv("GLOD_DBG")) { for (auto &x : g_rej) std::fprintf(stderr, " %ld", long(x)), x = 0; std::fprintf(stderr, "\n"); }
 	if (live_ > lim_.faces)
 		return false;
 	if (lim_.placement > 0)
@@ -743,9 +771,8 @@ void Collapser::write(CollapseSource &out)
 			devArea += a * sm.stats.meanNormalDevDeg;
 		} else {
 			n.Normalize();
-			const double axis = angleDeg(n, cone_[f].axis);
-			maxDev = std::max(maxDev, axis + cone_[f].half);
-			devArea += a * axis;
+			maxDev = std::max(maxDev, devBound_[f]);
+			devArea += a * angleDeg(n, cone_[f].axis);
 		}
 		maxBound = std::max(maxBound, e_[f]);
 		out.bound.push_back(e_[f]);
@@ -767,7 +794,6 @@ void Collapser::write(CollapseSource &out)
 	st.placedVertices = placed;
 	st.maxPlacement = maxMove;
 	st.collapses = collapses_;
-	if (std::getenv("GLOD_DBG")) std::fprintf(stderr, "write: faces %zu maxdev %.3f limit %.3f collapses %zu\n", st.faces, maxDev, lim_.normalDeg, collapses_);
 }
 
 } // namespace
