@@ -94,6 +94,10 @@ struct Ring {
 	P2 pv;
 	Vec3 dir, ax, ay;
 	double bound = 0;
+	// on a mesh boundary: its neighbours along it, before and after v in the ring's
+	// counter-clockwise order (the only targets)
+	bool onBoundary = false;
+	int32_t before = -1, after = -1;
 };
 
 // Do two counter-clockwise triangles of the plane overlap in more than an edge or a point?
@@ -144,7 +148,7 @@ private:
 	const size_t threads_;
 	std::vector<Vec3> P_;
 	std::vector<int32_t> T_, head_, next_, sf_, uf_, srcCorner_;
-	std::vector<uint8_t> alive_, locked_, made_;
+	std::vector<uint8_t> alive_, locked_, made_, boundary_;
 	std::vector<double> e_;
 	std::vector<NormalCone> cone_;
 	std::vector<double> devBound_; // (per made triangle: the largest deviation from the input normals it stands for)
@@ -235,6 +239,10 @@ void Collapser::lockEdges()
 			const int32_t c = int32_t(3 * f) + k;
 			const int32_t a = T_[size_t(c)], b = T_[size_t(heNext(c))];
 			const int32_t g = opposite(int32_t(f), a, b);
+			if (g == -1) { // (a mesh boundary: its vertices move along it, below)
+				++boundary_[size_t(a)], ++boundary_[size_t(b)];
+				continue;
+			}
 			bool lock = g < 0;
 			if (!lock) {
 				Vec3 ng = normal(g);
@@ -259,6 +267,9 @@ void Collapser::lockEdges()
 				locked_[size_t(a)] = locked_[size_t(b)] = 1;
 		}
 	}
+	for (size_t v = 0; v < boundary_.size(); ++v) // (where boundary loops touch: stays)
+		if (boundary_[v] != 0 && boundary_[v] != 2)
+			locked_[v] = 1;
 }
 
 bool Collapser::prepare(int32_t v, Ring &r) const
@@ -293,6 +304,8 @@ bool Collapser::prepare(int32_t v, Ring &r) const
 	};
 	double wind = 0;
 	r.bound = 0;
+	r.onBoundary = boundary_[size_t(v)] != 0;
+	r.before = r.after = -1;
 	for (int i = 0; i < r.n; ++i) {
 		const int32_t f = r.face[i];
 		Vec3 nf = normal(f);
@@ -307,12 +320,20 @@ bool Collapser::prepare(int32_t v, Ring &r) const
 		r.corner[i][k] = -1;
 		r.corner[i][(k + 1) % 3] = int8_t(i1);
 		r.corner[i][(k + 2) % 3] = int8_t(i2);
+		if (r.onBoundary) { // (the boundary edges at v are the ones with no triangle across)
+			const int32_t c = 3 * f + k;
+			if (opposite(f, v, T_[size_t(heNext(c))]) == -1)
+				r.after = T_[size_t(heNext(c))];
+			if (opposite(f, T_[size_t(hePrev(c))], v) == -1)
+				r.before = T_[size_t(hePrev(c))];
+		}
 		const P2 p1 = r.pLink[i1], p2 = r.pLink[i2];
 		const double x1 = p1.x - r.pv.x, y1 = p1.y - r.pv.y, x2 = p2.x - r.pv.x, y2 = p2.y - r.pv.y;
 		wind += std::atan2(x1 * y2 - y1 * x2, x1 * x2 + y1 * y2);
 		r.bound = std::max(r.bound, e_[size_t(f)]);
 	}
-	if (std::fabs(wind - 2 * M_PI) > kWinding) // (the ring winds once around v)
+	if (r.onBoundary ? !(wind > 0 && wind < 2 * M_PI - kWinding) || r.before < 0 || r.after < 0
+	                 : std::fabs(wind - 2 * M_PI) > kWinding) // (the ring winds once around v)
 		return false;
 	return r.bound < lim_.bound;
 }
@@ -321,32 +342,57 @@ bool Collapser::evaluate(int32_t v, int32_t u, Ring &r, Eval &ev, double worse) 
 {
 	// u shares exactly two triangles with v, and exactly two neighbours (the link condition:
 	// the collapse keeps a 2-manifold)
+	// (a boundary vertex goes along the boundary: one triangle goes, and one neighbour is shared)
+	if (r.onBoundary && u != r.before && u != r.after)
+		return false;
+	const int want = r.onBoundary ? 1 : 2;
 	int shared = 0;
 	for (int i = 0; i < r.n; ++i)
 		for (int k = 0; k < 3; ++k)
 			shared += T_[size_t(3 * r.face[i] + k)] == u;
-	if (shared != 2)
+	if (shared != want)
 		return false;
 	int common = 0, nU = 0;
+	int32_t seen[2 * kMaxRing];
+	int nSeen = 0;
 	for (int32_t c = head_[size_t(u)]; c >= 0; c = next_[size_t(c)]) {
 		if (!alive_[size_t(heFace(c))])
 			continue;
 		if (++nU > kMaxRing)
 			return false;
-		const int32_t w = T_[size_t(heNext(c))]; // (each neighbour of u once, on a 2-manifold)
-		if (w == v)
-			continue;
-		for (int i = 0; i < r.nLink; ++i)
-			common += r.link[i] == w;
+		for (const int32_t w : {T_[size_t(heNext(c))], T_[size_t(hePrev(c))]}) {
+			if (w == v || std::find(seen, seen + nSeen, w) != seen + nSeen)
+				continue;
+			seen[nSeen++] = w;
+			for (int i = 0; i < r.nLink; ++i)
+				common += r.link[i] == w;
+		}
 	}
-	if (common != 2)
+	if (common != want)
 		return false;
 	int iu = 0;
 	while (r.link[iu] != u)
 		++iu;
 	const P2 pu = r.pLink[iu], pv = r.pv;
 	// the fan: facing n, and v over one of its triangles (the gap there)
+	// (a boundary vertex: the outline loses the triangle before-v-after, which must be a pocket
+	// of the old ring, not a notch, and v is over no triangle of the fan; the old surface over
+	// the pocket is within v's distance of the new boundary edge, or of the spoke crossings below)
 	double gap = -1;
+	P2 pocket[3];
+	if (r.onBoundary) {
+		int ib = 0, ia = 0;
+		while (r.link[ib] != r.before)
+			++ib;
+		while (r.link[ia] != r.after)
+			++ia;
+		pocket[0] = r.pLink[ib], pocket[1] = pv, pocket[2] = r.pLink[ia];
+		const double o = (pv.x - pocket[0].x) * (pocket[2].y - pocket[0].y) -
+		                 (pv.y - pocket[0].y) * (pocket[2].x - pocket[0].x);
+		if (o < 0)
+			return false;
+		gap = pointSegmentDistance(P_[size_t(v)], P_[size_t(r.before)], P_[size_t(r.after)]);
+	}
 	for (int i = 0; i < r.n; ++i) {
 		const int32_t f = r.face[i];
 		int32_t tri[3];
@@ -427,8 +473,12 @@ bool Collapser::evaluate(int32_t v, int32_t u, Ring &r, Eval &ev, double worse) 
 		Vec3 nt = (P_[size_t(tri[1])] - P_[size_t(tri[0])]) ^ (P_[size_t(tri[2])] - P_[size_t(tri[0])]);
 		nt.Normalize();
 		uint32_t under = 0;
+		// (the fan triangle on the new boundary edge also stands for the pocket)
+		const int32_t other = u == r.before ? r.after : r.before;
+		const bool edge = r.onBoundary && (tri[0] == other || tri[1] == other || tri[2] == other);
 		for (int j = 0; j < r.n; ++j) // (its own ring triangle is under it: v is over the fan)
-			if (j == i || overlap(fan, ringTri[j], eps)) {
+			if (j == i || overlap(fan, ringTri[j], eps) ||
+			    (edge && overlap(pocket, ringTri[j], eps))) {
 				const int32_t g = r.face[j];
 				if (nt.dot(cone_[size_t(g)].axis) < cosRoom_[size_t(g)])
 					return false;
@@ -451,7 +501,7 @@ bool Collapser::best(int32_t v, Entry &e) const
 	int32_t bestU = -1;
 	for (int i = 0; i < r.nLink; ++i) {
 		const int32_t u = r.link[i];
-		if (evaluate(v, u, r, ev, bestU < 0 ? HUGE_VAL : bestGap))
+		if (evaluate(v, u, r, ev, bestU < 0 ? HUGE_VAL : bestGap) && (bestU < 0 || ev.gap < bestGap))
 			bestGap = ev.gap, bestU = u;
 	}
 	if (bestU < 0)
@@ -637,6 +687,7 @@ bool Collapser::run(CollapseSource &out)
 		head_[size_t(T_[c])] = int32_t(c);
 	}
 	locked_.assign(nV, 0);
+	boundary_.assign(nV, 0);
 	for (size_t v = 0; v < nV; ++v)
 		locked_[v] = t_.vertexLocked[size_t(sm.sourceVertex[v])];
 	lockEdges();
@@ -699,7 +750,8 @@ bool Collapser::run(CollapseSource &out)
 		queued_[size_t(top.v)] = 0;
 		if (head_[size_t(top.v)] < 0)
 			continue;
-		if (!prepare(top.v, r) || !evaluate(top.v, top.u, r, ev, std::nextafter(top.cost, HUGE_VAL))) {
+		if (!prepare(top.v, r) || !evaluate(top.v, top.u, r, ev, std::nextafter(top.cost, HUGE_VAL)) ||
+		    ev.gap > top.cost) {
 			pushBest(top.v);
 			continue;
 		}
