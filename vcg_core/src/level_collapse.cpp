@@ -96,6 +96,8 @@ struct Ring {
 	double bound = 0;
 	// on a mesh boundary: its neighbours along it, before and after v in the ring's
 	// counter-clockwise order (the only targets)
+	int nSharp = 0;
+	int32_t sharp[2]; // (with two sharp spokes: their other ends, the only targets)
 	bool onBoundary = false;
 	int32_t before = -1, after = -1;
 };
@@ -146,6 +148,7 @@ private:
 	const CollapseSource &src_;
 	const CollapseLimits &lim_;
 	const size_t threads_;
+	const double cosFeature_ = std::cos(lim_.featureDeg * M_PI / 180);
 	std::vector<Vec3> P_;
 	std::vector<int32_t> T_, head_, next_, sf_, uf_, srcCorner_;
 	std::vector<uint8_t> alive_, locked_, made_, boundary_;
@@ -232,9 +235,7 @@ void Collapser::lockEdges()
 {
 	const size_t nT = T_.size() / 3;
 	const bool keys = mesh_.faceKey || mesh_.cornerKey;
-	const double cosFeature = std::cos(lim_.featureDeg * M_PI / 180);
 	for (size_t f = 0; f < nT; ++f) {
-		const Vec3 nf = normal(int32_t(f)).Normalize();
 		for (int k = 0; k < 3; ++k) {
 			const int32_t c = int32_t(3 * f) + k;
 			const int32_t a = T_[size_t(c)], b = T_[size_t(heNext(c))];
@@ -244,11 +245,6 @@ void Collapser::lockEdges()
 				continue;
 			}
 			bool lock = g < 0;
-			if (!lock) {
-				Vec3 ng = normal(g);
-				ng.Normalize();
-				lock = nf.dot(ng) < cosFeature;
-			}
 			if (!lock && keys) {
 				const int32_t sf = src_.mesh.sourceFace[f], sg = src_.mesh.sourceFace[size_t(g)];
 				lock = mesh_.faceKey && mesh_.faceKey[sf] != mesh_.faceKey[sg];
@@ -306,6 +302,8 @@ bool Collapser::prepare(int32_t v, Ring &r) const
 	r.bound = 0;
 	r.onBoundary = boundary_[size_t(v)] != 0;
 	r.before = r.after = -1;
+	Vec3 spoke[2 * kMaxRing][2]; // (the normals of the two triangles at each spoke v-w)
+	int8_t spokes[2 * kMaxRing] = {};
 	for (int i = 0; i < r.n; ++i) {
 		const int32_t f = r.face[i];
 		Vec3 nf = normal(f);
@@ -320,6 +318,9 @@ bool Collapser::prepare(int32_t v, Ring &r) const
 		r.corner[i][k] = -1;
 		r.corner[i][(k + 1) % 3] = int8_t(i1);
 		r.corner[i][(k + 2) % 3] = int8_t(i2);
+		for (const int w : {i1, i2})
+			if (spokes[w] < 2)
+				spoke[w][spokes[w]++] = nf;
 		if (r.onBoundary) { // (the boundary edges at v are the ones with no triangle across)
 			const int32_t c = 3 * f + k;
 			if (opposite(f, v, T_[size_t(heNext(c))]) == -1)
@@ -335,6 +336,17 @@ bool Collapser::prepare(int32_t v, Ring &r) const
 	if (r.onBoundary ? !(wind > 0 && wind < 2 * M_PI - kWinding) || r.before < 0 || r.after < 0
 	                 : std::fabs(wind - 2 * M_PI) > kWinding) // (the ring winds once around v)
 		return false;
+	// sharp spokes (a feature line through v): v only moves along the line, to one of its ends;
+	// a vertex where a line ends or lines meet, or on a boundary too, stays
+	r.nSharp = 0;
+	for (int w = 0; w < r.nLink; ++w)
+		if (spokes[w] == 2 && spoke[w][0].dot(spoke[w][1]) < cosFeature_) {
+			if (r.nSharp == 2 || r.onBoundary)
+				return false;
+			r.sharp[r.nSharp++] = r.link[w];
+		}
+	if (r.nSharp == 1)
+		return false;
 	return r.bound < lim_.bound;
 }
 
@@ -344,6 +356,8 @@ bool Collapser::evaluate(int32_t v, int32_t u, Ring &r, Eval &ev, double worse) 
 	// the collapse keeps a 2-manifold)
 	// (a boundary vertex goes along the boundary: one triangle goes, and one neighbour is shared)
 	if (r.onBoundary && u != r.before && u != r.after)
+		return false;
+	if (r.nSharp == 2 && u != r.sharp[0] && u != r.sharp[1])
 		return false;
 	const int want = r.onBoundary ? 1 : 2;
 	int shared = 0;
