@@ -13,6 +13,7 @@
 // the cone of the input normals it stands for; the fan's triangles take the union of the ring's,
 // and each must stay within the level's normal limit of it.
 #include "level_collapse.h"
+#include "level_passes.h"
 
 #include <array>
 #include <cstring>
@@ -227,6 +228,8 @@ private:
 	void collapse(int32_t v, int32_t u, const Eval &ev);
 	void prune(int32_t v);
 	void place();
+	bool facesInput(int32_t f, double r) const;
+	bool fanFacesInput(int32_t v, int32_t u, double r) const;
 	bool withinLimit(int32_t f) const;
 	void write(CollapseSource &out);
 };
@@ -622,6 +625,41 @@ void Collapser::collapse(int32_t v, int32_t u, const Eval &ev)
 			pushBest(w);
 }
 
+// Does the input surface nearest to triangle f (within r) face it (not the other side of a thin
+// part)?
+bool Collapser::facesInput(int32_t f, double r) const
+{
+	const Vec3 &a = P_[size_t(T_[3 * f])], &b = P_[size_t(T_[3 * f + 1])], &c = P_[size_t(T_[3 * f + 2])];
+	Vec3 n = (b - a) ^ (c - a);
+	n.Normalize();
+	return nearestInputFacing(t_, (a + b + c) / 3.0, n, r * (1 + 1e-9) + 1e-12 * t_.diagonal);
+}
+
+// The same for each triangle of the fan of the collapse v -> u, within the bound r it will have.
+bool Collapser::fanFacesInput(int32_t v, int32_t u, double r) const
+{
+	for (int32_t c = head_[size_t(v)]; c >= 0; c = next_[size_t(c)]) {
+		const int32_t f = heFace(c);
+		if (!alive_[size_t(f)])
+			continue;
+		Vec3 p[3];
+		bool hasU = false;
+		for (int k = 0; k < 3; ++k) {
+			const int32_t w = T_[size_t(3 * f + k)];
+			hasU = hasU || w == u;
+			p[k] = P_[size_t(w == v ? u : w)];
+		}
+		if (hasU)
+			continue;
+		Vec3 n = (p[1] - p[0]) ^ (p[2] - p[0]);
+		n.Normalize();
+		if (!nearestInputFacing(t_, (p[0] + p[1] + p[2]) / 3.0, n,
+		                        r * (1 + 1e-9) + 1e-12 * t_.diagonal))
+			return false;
+	}
+	return true;
+}
+
 bool Collapser::withinLimit(int32_t f) const
 {
 	Vec3 n = normal(f);
@@ -661,7 +699,8 @@ void Collapser::place()
 		P_[v] = old + n * t;
 		bool ok = true;
 		for (int32_t c = head_[v]; c >= 0 && ok; c = next_[size_t(c)])
-			ok = withinLimit(heFace(c));
+			ok = withinLimit(heFace(c)) &&
+			     facesInput(heFace(c), e_[size_t(heFace(c))] + std::fabs(t));
 		if (!ok) {
 			P_[v] = old;
 			continue;
@@ -767,6 +806,10 @@ bool Collapser::run(CollapseSource &out)
 		if (!prepare(top.v, r) || !evaluate(top.v, top.u, r, ev, std::nextafter(top.cost, HUGE_VAL)) ||
 		    ev.gap > top.cost) {
 			pushBest(top.v);
+			continue;
+		}
+		if (!fanFacesInput(top.v, top.u, ev.bound)) { // (a thin part: v stays)
+			locked_[size_t(top.v)] = 1;
 			continue;
 		}
 		collapse(top.v, top.u, ev);

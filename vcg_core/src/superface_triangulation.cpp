@@ -346,31 +346,7 @@ bool nearestSurfaceFacing(const Topology &t, const Scratch &w)
 		const double r2 = w.ownDist2[k];
 		if (!(r2 > 0) || !std::isfinite(r2))
 			continue; // on its own faces (or nothing to compare with)
-		// (the query box is capped at ~16^3 cells: a farther other side is not looked for,
-		// which bounds the time on strongly curved superfaces of very fine meshes)
-		const double r = std::min(std::sqrt(r2), 8 * t.grid.cell);
-		const Vec3 &c = w.centroid[k];
-		const Vec3 &n = w.triNormal[k];
-		// nearest face facing away (normals first: distances only for those)
-		double away = r * r * (1 - 1e-9);
-		bool anyAway = false;
-		t.grid.forBoxFacingAway(c - Vec3(r, r, r), c + Vec3(r, r, r), n, t.faceNormal, [&](int32_t g) {
-			if (facesAway(t, g, n, true)) { // (the grid holds valid faces only)
-				const double d2 = faceDist2(t, c, g);
-				if (d2 < away)
-					away = d2, anyAway = true;
-			}
-		});
-		if (!anyAway)
-			continue;
-		// flipped unless a face facing it is as near (ties: an edge or vertex both touch)
-		const double ra = std::sqrt(away) * (1 + 1e-9);
-		bool facing = false;
-		t.grid.forBox(c - Vec3(ra, ra, ra), c + Vec3(ra, ra, ra), [&](int32_t g) {
-			if (!facing && !facesAway(t, g, n, true)) // (a normal's dot is never NaN)
-				facing = faceDist2(t, c, g) <= away * (1 + 1e-9);
-		});
-		if (!facing)
+		if (!nearestInputFacing(t, w.centroid[k], w.triNormal[k], std::sqrt(r2)))
 			return false;
 	}
 	return true;
@@ -785,6 +761,39 @@ Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, Chunk
 		o.truncate(firstTri);
 		resetMeasures(in, s, m);
 	}
+}
+
+} // namespace detail
+} // namespace gausslod
+
+namespace gausslod {
+namespace detail {
+
+bool nearestInputFacing(const Topology &t, const Vec3 &c, const Vec3 &n, double r)
+{
+	// (the query box is capped at ~16^3 cells: a farther other side is not looked for, which
+	// bounds the time on strongly curved superfaces of very fine meshes)
+	r = std::min(r, 8 * t.grid.cell);
+	// nearest face facing away (normals first: distances only for those)
+	double away = r * r * (1 - 1e-9);
+	bool anyAway = false;
+	t.grid.forBoxFacingAway(c - Vec3(r, r, r), c + Vec3(r, r, r), n, t.faceNormal, [&](int32_t g) {
+		if (facesAway(t, g, n, true)) { // (the grid holds valid faces only)
+			const double d2 = faceDist2(t, c, g);
+			if (d2 < away)
+				away = d2, anyAway = true;
+		}
+	});
+	if (!anyAway)
+		return true;
+	// flipped unless a face facing it is as near (ties: an edge or vertex both touch)
+	const double ra = std::sqrt(away) * (1 + 1e-9);
+	bool facing = false;
+	t.grid.forBox(c - Vec3(ra, ra, ra), c + Vec3(ra, ra, ra), [&](int32_t g) {
+		if (!facing && !facesAway(t, g, n, true)) // (a normal's dot is never NaN)
+			facing = faceDist2(t, c, g) <= away * (1 + 1e-9);
+	});
+	return facing;
 }
 
 } // namespace detail
