@@ -209,6 +209,11 @@ QString levelLogLine(const gausslod::LevelStats &s, double diag)
 		line += QString("; %1 vertices placed on the surface (moved at most %2 % of the diagonal)")
 		            .arg(thousands(s.placedVertices))
 		            .arg(QString::number(100.0 * s.maxPlacement / diag, 'f', 4));
+	if (s.collapses > 0)
+		line += QString("; made from LOD%1 by %2 edge collapses (the superface level's face count "
+		                "within its distance bound; max normal deviation: a bound, mean: an estimate)")
+		            .arg(s.level + 1)
+		            .arg(thousands(s.collapses));
 	if (s.reusedFiner)
 		line += QString("; same mesh as LOD%1 (merging gave more faces, or under 1 % fewer at a "
 		                "larger distance)")

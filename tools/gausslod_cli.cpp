@@ -630,7 +630,16 @@ int main(int argc, char **argv)
 		std::fprintf(stderr, "gausslod: %s: %s\n", input.c_str(), out.message.c_str());
 		return out.code;
 	}
-	if (!o.json)
+	if (!o.json) {
+		std::string made; // (DESIGN 50)
+		for (const gausslod::LevelStats &l : out.levels)
+			if (l.collapses > 0)
+				made += (made.empty() ? "" : ", ") + ("LOD" + std::to_string(l.level));
+		if (!made.empty())
+			std::printf("%s: made from the finer level by edge collapses, at the superface level's "
+			            "face count within its distance bound (maxdev: a bound; meandev: an estimate)\n",
+			            made.c_str());
 		std::printf("total %.3f s; files in %s\n", out.seconds, outdir.c_str());
+	}
 	return 0;
 }

@@ -106,6 +106,8 @@ struct Params {
 	/// tolerance and mergeDist at half of it. 0 = no distance limit (the paper: only normals
 	/// decide). Default 0.02 %: measured against CGAL's Garland-Heckbert edge collapse at equal
 	/// face counts, the levels' Hausdorff distance is about 2.3x closer to it than with no limit.
+	/// (A level made by collapses of the finer level, collapseLevels, is held to the superface
+	/// level's proven distance bound instead: DESIGN 50.)
 	double maxDistance = 0.0002;
 	/// The distance tolerance of level i is maxDistance * distanceGrowth^(maxLevel - 1 - i), so
 	/// that coarser levels still get coarser (default 2: 0.02 % at LOD4 ... 0.32 % at LOD0).
@@ -295,8 +297,9 @@ struct LevelStats {
 	                             ///< the diagonal (0 = none); faces mode: the one the search chose
 	int trials = 1;              ///< builds of the level (faces mode: the tolerance search's)
 	/// DESIGN 50: half-edge collapses of the finer level that made this level (0 = the
-	/// superface build's mesh). Its normal deviations are then bounds (each triangle against
-	/// the cone of the input normals it stands for), not measures.
+	/// superface build's mesh). maxNormalDevDeg is then a bound (each new triangle against the
+	/// cones of the input normals it stands for; the finer level's own figure for the others),
+	/// meanNormalDevDeg an estimate (new triangles against the middle of those cones).
 	size_t collapses = 0;
 	bool reusedFiner = false;    ///< the merged partition gave more faces than the next finer
 	                             ///< level (or, in angle mode, a larger distance bound with not

@@ -786,14 +786,15 @@ bool Collapser::run(CollapseSource &out)
 			for (size_t v = b; v < e; ++v)
 				has[v] = best(int32_t(v), first[v]);
 		});
-		std::vector<Entry> all;
-		all.reserve(nV);
+		size_t n = 0;
 		for (size_t v = 0; v < nV; ++v)
 			if (has[v]) {
-				all.push_back(first[v]);
+				first[n++] = first[v];
 				queued_[v] = 1;
 			}
-		heap_ = std::priority_queue<Entry>(std::less<Entry>(), std::move(all));
+		first.resize(n);
+		std::vector<uint8_t>().swap(has);
+		heap_ = std::priority_queue<Entry>(std::less<Entry>(), std::move(first));
 	}
 	Eval ev;
 	Ring r;
