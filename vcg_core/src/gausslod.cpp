@@ -588,15 +588,14 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			if (collapsing && level < finest &&
 			    (deliveredIsFiner ? !(sameAsFiner || lm.stats.reusedFiner) : !delivered.empty())) {
 				const auto tc = std::chrono::steady_clock::now();
-				// (the finer level's mesh and partition have served here: the collapses start
-				// from that mesh, taken whole, and the partition's memory goes)
+				// (the finer level's mesh has served here: the collapses start from it, taken
+				// whole; its partition stays, coarser fallbacks split into it)
 				if (deliveredIsFiner) {
 					LevelMesh source;
 					takeFinerMesh(mesh, parts[size_t(level) + 1].label, finer, finerPlaced, source);
 					collapseSourceOf(topo, std::move(source), delivered);
 				}
 				finer = LevelMesh();
-				parts[size_t(level) + 1] = Partition();
 				if (delivered.mesh.stats.collapses > 0 &&
 				    delivered.mesh.triangles.size() / 3 <= lm.stats.faces) {
 					collapsed = delivered; // (the superface level is no lighter: it is that level)
@@ -611,7 +610,10 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 					                    : 90.0;
 					lim.featureDeg = params.featureAngle;
 					lim.placement = params.placeVertices ? 0.5 * tolerance * topo.diagonal : 0.0;
-					takeCollapsed = collapseLevel(topo, mesh, delivered, lim, threads, collapsed);
+					takeCollapsed = collapseLevel(topo, mesh, delivered, lim, threads, collapsed) &&
+					                farthestInputVertex(topo, collapsed.mesh,
+					                                    collapsed.mesh.stats.distanceBound) <=
+					                    farthestInputVertex(topo, lm, lm.stats.distanceBound);
 				}
 				secondsCollapse = since(tc);
 			}

@@ -949,6 +949,84 @@ void collapseSourceOf(const Topology &t, LevelMesh lm, CollapseSource &out)
 	out.mesh = std::move(lm);
 }
 
+double farthestInputVertex(const Topology &t, const LevelMesh &level, double within)
+{
+	const size_t nT = level.triangles.size() / 3;
+	if (nT == 0)
+		return HUGE_VAL;
+	auto P = [&](int32_t v) { return Vec3(&level.positions[3 * size_t(v)]); };
+	// a uniform grid over the triangles' boxes, about 2 triangles per cell (hashed into buckets)
+	Vec3 lo = P(0), hi = P(0);
+	for (size_t v = 0; v < level.positions.size() / 3; ++v)
+		for (int k = 0; k < 3; ++k) {
+			lo[k] = std::min(lo[k], level.positions[3 * v + size_t(k)]);
+			hi[k] = std::max(hi[k], level.positions[3 * v + size_t(k)]);
+		}
+	const Vec3 ext = hi - lo;
+	const double cell =
+	    std::max({std::cbrt(std::max(ext[0], 1e-300) * std::max(ext[1], 1e-300) *
+	                        std::max(ext[2], 1e-300) / (0.5 * double(nT))),
+	              1e-9 * t.diagonal, within});
+	uint64_t buckets = 1;
+	while (buckets < 2 * nT)
+		buckets <<= 1;
+	auto idx = [&](double x, int k) { return int64_t(std::floor((x - lo[k]) / cell)); };
+	std::vector<int32_t> start(buckets + 1, 0), tri;
+	auto forCells = [&](const Vec3 &a, const Vec3 &b, auto fn) {
+		for (int64_t z = idx(a[2], 2); z <= idx(b[2], 2); ++z)
+			for (int64_t y = idx(a[1], 1); y <= idx(b[1], 1); ++y)
+				for (int64_t x = idx(a[0], 0); x <= idx(b[0], 0); ++x)
+					fn(FaceGrid::bucketOf(x, y, z, buckets - 1));
+	};
+	auto box = [&](size_t f, Vec3 &a, Vec3 &b) {
+		a = b = P(level.triangles[3 * f]);
+		for (int k = 1; k < 3; ++k) {
+			const Vec3 q = P(level.triangles[3 * f + size_t(k)]);
+			for (int j = 0; j < 3; ++j)
+				a[j] = std::min(a[j], q[j]), b[j] = std::max(b[j], q[j]);
+		}
+	};
+	Vec3 a, b;
+	for (size_t f = 0; f < nT; ++f) {
+		box(f, a, b);
+		forCells(a, b, [&](uint64_t c) { ++start[c + 1]; });
+	}
+	for (size_t c = 0; c < buckets; ++c)
+		start[c + 1] += start[c];
+	tri.resize(size_t(start[buckets]));
+	std::vector<int32_t> fill(start.begin(), start.end() - 1);
+	for (size_t f = 0; f < nT; ++f) {
+		box(f, a, b);
+		forCells(a, b, [&](uint64_t c) { tri[size_t(fill[c]++)] = int32_t(f); });
+	}
+	std::vector<uint8_t> used(t.nV, 0);
+	for (size_t f = 0; f < t.nF; ++f)
+		if (t.faceValid[f])
+			for (int k = 0; k < 3; ++k)
+				used[size_t(t.T[3 * f + size_t(k)])] = 1;
+	const double r = within * (1 + 1e-9) + 1e-12 * t.diagonal;
+	double worst = 0;
+	for (size_t v = 0; v < t.nV; ++v) {
+		if (!used[v])
+			continue;
+		const Vec3 p = t.pos(int32_t(v));
+		double best = r * r;
+		bool any = false;
+		forCells(p - Vec3(r, r, r), p + Vec3(r, r, r), [&](uint64_t c) {
+			for (int32_t i = start[c]; i < start[c + 1]; ++i) {
+				const size_t f = size_t(tri[size_t(i)]);
+				const double d2 = pointTriangleDistance2(p, P(level.triangles[3 * f]),
+				                                         P(level.triangles[3 * f + 1]),
+				                                         P(level.triangles[3 * f + 2]));
+				if (d2 <= best)
+					best = d2, any = true;
+			}
+		});
+		worst = std::max(worst, any ? std::sqrt(best) : r);
+	}
+	return worst;
+}
+
 bool collapseLevel(const Topology &t, const MeshView &mesh, const CollapseSource &src,
                    const CollapseLimits &lim, size_t threads, CollapseSource &out)
 {

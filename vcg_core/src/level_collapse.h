@@ -50,5 +50,9 @@ struct CollapseLimits {
 bool collapseLevel(const Topology &t, const MeshView &mesh, const CollapseSource &src,
                    const CollapseLimits &lim, size_t threads, CollapseSource &out);
 
+/// The largest distance from an input vertex (of a valid face) to the level's triangles, each
+/// looked for within `within` (the level's distance bound: every input point is that close).
+double farthestInputVertex(const Topology &t, const LevelMesh &level, double within);
+
 } // namespace detail
 } // namespace gausslod
