@@ -612,8 +612,8 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 					lim.placement = params.placeVertices ? 0.5 * tolerance * topo.diagonal : 0.0;
 					takeCollapsed = collapseLevel(topo, mesh, delivered, lim, threads, collapsed) &&
 					                farthestInputVertex(topo, collapsed.mesh,
-					                                    collapsed.mesh.stats.distanceBound) <=
-					                    farthestInputVertex(topo, lm, lm.stats.distanceBound);
+					                                    collapsed.mesh.stats.distanceBound, threads) <=
+					                    farthestInputVertex(topo, lm, lm.stats.distanceBound, threads);
 				}
 				secondsCollapse = since(tc);
 			}

@@ -25,7 +25,12 @@ namespace detail {
 
 namespace {
 
-constexpr int kMaxRing = 32;        // a vertex with more triangles around it is not removed
+constexpr int kMaxRing = 32;             // a vertex with more triangles around it is not removed
+constexpr size_t kFarthestSample = 16384; // input vertices farthestInputVertex looks at, at most
+// the facing test (nearestInputFacing) looks this many face-grid cells around a new triangle (the
+// superface build's 8 cost fandisk x64 about 0.2 s more: its levels' triangles are far larger
+// than its input's)
+constexpr double kFacingCells = 3;
 constexpr double kFacing = 1e-3;    // cos of the steepest triangle allowed against n
 constexpr double kWinding = 1e-6;   // radians
 
@@ -632,7 +637,8 @@ bool Collapser::facesInput(int32_t f, double r) const
 	const Vec3 &a = P_[size_t(T_[3 * f])], &b = P_[size_t(T_[3 * f + 1])], &c = P_[size_t(T_[3 * f + 2])];
 	Vec3 n = (b - a) ^ (c - a);
 	n.Normalize();
-	return nearestInputFacing(t_, (a + b + c) / 3.0, n, r * (1 + 1e-9) + 1e-12 * t_.diagonal);
+	return nearestInputFacing(t_, (a + b + c) / 3.0, n, r * (1 + 1e-9) + 1e-12 * t_.diagonal,
+	                          kFacingCells);
 }
 
 // The same for each triangle of the fan of the collapse v -> u, within the bound r it will have.
@@ -654,7 +660,7 @@ bool Collapser::fanFacesInput(int32_t v, int32_t u, double r) const
 		Vec3 n = (p[1] - p[0]) ^ (p[2] - p[0]);
 		n.Normalize();
 		if (!nearestInputFacing(t_, (p[0] + p[1] + p[2]) / 3.0, n,
-		                        r * (1 + 1e-9) + 1e-12 * t_.diagonal))
+		                        r * (1 + 1e-9) + 1e-12 * t_.diagonal, kFacingCells))
 			return false;
 	}
 	return true;
@@ -949,7 +955,8 @@ void collapseSourceOf(const Topology &t, LevelMesh lm, CollapseSource &out)
 	out.mesh = std::move(lm);
 }
 
-double farthestInputVertex(const Topology &t, const LevelMesh &level, double within)
+double farthestInputVertex(const Topology &t, const LevelMesh &level, double within,
+                           size_t threads)
 {
 	const size_t nT = level.triangles.size() / 3;
 	if (nT == 0)
@@ -962,11 +969,12 @@ double farthestInputVertex(const Topology &t, const LevelMesh &level, double wit
 			lo[k] = std::min(lo[k], level.positions[3 * v + size_t(k)]);
 			hi[k] = std::max(hi[k], level.positions[3 * v + size_t(k)]);
 		}
-	const Vec3 ext = hi - lo;
-	const double cell =
-	    std::max({std::cbrt(std::max(ext[0], 1e-300) * std::max(ext[1], 1e-300) *
-	                        std::max(ext[2], 1e-300) / (0.5 * double(nT))),
-	              1e-9 * t.diagonal, within});
+	double area = 0;
+	for (size_t f = 0; f < nT; ++f)
+		area += ((P(level.triangles[3 * f + 1]) - P(level.triangles[3 * f])) ^
+		         (P(level.triangles[3 * f + 2]) - P(level.triangles[3 * f])))
+		            .Norm();
+	const double cell = std::max(std::sqrt(area / double(nT)), 1e-9 * t.diagonal);
 	uint64_t buckets = 1;
 	while (buckets < 2 * nT)
 		buckets <<= 1;
@@ -1004,27 +1012,50 @@ double farthestInputVertex(const Topology &t, const LevelMesh &level, double wit
 		if (t.faceValid[f])
 			for (int k = 0; k < 3; ++k)
 				used[size_t(t.T[3 * f + size_t(k)])] = 1;
-	const double r = within * (1 + 1e-9) + 1e-12 * t.diagonal;
-	double worst = 0;
-	for (size_t v = 0; v < t.nV; ++v) {
-		if (!used[v])
-			continue;
-		const Vec3 p = t.pos(int32_t(v));
-		double best = r * r;
-		bool any = false;
-		forCells(p - Vec3(r, r, r), p + Vec3(r, r, r), [&](uint64_t c) {
-			for (int32_t i = start[c]; i < start[c + 1]; ++i) {
-				const size_t f = size_t(tri[size_t(i)]);
-				const double d2 = pointTriangleDistance2(p, P(level.triangles[3 * f]),
-				                                         P(level.triangles[3 * f + 1]),
-				                                         P(level.triangles[3 * f + 2]));
-				if (d2 <= best)
-					best = d2, any = true;
+	// each vertex's nearest triangle: in a box growing from half a cell until the nearest found
+	// is within it (every input point is within `within`); the vertices in parallel, at most
+	// kFarthestSample of them (every k-th: this compares two levels, it proves nothing)
+	const double rMax = within * (1 + 1e-9) + 1e-12 * t.diagonal;
+	size_t nUsed = 0;
+	for (uint8_t u : used)
+		nUsed += u;
+	const size_t stride = std::max<size_t>(1, (nUsed + kFarthestSample - 1) / kFarthestSample);
+	size_t k = 0;
+	for (size_t v = 0; v < t.nV; ++v)
+		if (used[v])
+			used[v] = k++ % stride == 0;
+	std::vector<double> worst(std::max<size_t>(threads, 1), 0.0);
+	parallelRanges(t.nV, threads, [&](size_t vb, size_t ve, size_t part) {
+		for (size_t v = vb; v < ve; ++v) {
+			if (!used[v])
+				continue;
+			const Vec3 p = t.pos(int32_t(v));
+			double r = std::min(0.5 * cell, rMax), d = rMax;
+			for (;;) {
+				double best = r * r;
+				bool any = false;
+				forCells(p - Vec3(r, r, r), p + Vec3(r, r, r), [&](uint64_t c) {
+					for (int32_t i = start[c]; i < start[c + 1]; ++i) {
+						const size_t f = size_t(tri[size_t(i)]);
+						const double d2 = pointTriangleDistance2(
+						    p, P(level.triangles[3 * f]), P(level.triangles[3 * f + 1]),
+						    P(level.triangles[3 * f + 2]));
+						if (d2 <= best)
+							best = d2, any = true;
+					}
+				});
+				if (any) {
+					d = std::sqrt(best);
+					break;
+				}
+				if (r >= rMax)
+					break;
+				r = std::min(2 * r, rMax);
 			}
-		});
-		worst = std::max(worst, any ? std::sqrt(best) : r);
-	}
-	return worst;
+			worst[part] = std::max(worst[part], d);
+		}
+	});
+	return *std::max_element(worst.begin(), worst.end());
 }
 
 bool collapseLevel(const Topology &t, const MeshView &mesh, const CollapseSource &src,

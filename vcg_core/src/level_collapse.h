@@ -52,7 +52,8 @@ bool collapseLevel(const Topology &t, const MeshView &mesh, const CollapseSource
 
 /// The largest distance from an input vertex (of a valid face) to the level's triangles, each
 /// looked for within `within` (the level's distance bound: every input point is that close).
-double farthestInputVertex(const Topology &t, const LevelMesh &level, double within);
+double farthestInputVertex(const Topology &t, const LevelMesh &level, double within,
+                           size_t threads);
 
 } // namespace detail
 } // namespace gausslod

@@ -769,11 +769,11 @@ Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, Chunk
 namespace gausslod {
 namespace detail {
 
-bool nearestInputFacing(const Topology &t, const Vec3 &c, const Vec3 &n, double r)
+bool nearestInputFacing(const Topology &t, const Vec3 &c, const Vec3 &n, double r, double cells)
 {
-	// (the query box is capped at ~16^3 cells: a farther other side is not looked for, which
-	// bounds the time on strongly curved superfaces of very fine meshes)
-	r = std::min(r, 8 * t.grid.cell);
+	// (the query box is capped at ~(2 cells)^3 grid cells: a farther other side is not looked
+	// for, which bounds the time on strongly curved superfaces of very fine meshes)
+	r = std::min(r, cells * t.grid.cell);
 	// nearest face facing away (normals first: distances only for those)
 	double away = r * r * (1 - 1e-9);
 	bool anyAway = false;
