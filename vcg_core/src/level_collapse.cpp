@@ -778,8 +778,10 @@ bool Collapser::run(CollapseSource &out)
 			addPlane(Q_[size_t(T_[3 * f + size_t(k)])], un, d, a);
 	}
 	sf_ = sm.superface;
-	int32_t sfCount = 0;
+	int32_t sfCount = 0; // (over the input faces' ids too: a dropped face's may have no triangle)
 	for (int32_t s : sf_)
+		sfCount = std::max(sfCount, s + 1);
+	for (int32_t s : sm.inputSuperface)
 		sfCount = std::max(sfCount, s + 1);
 	uf_.resize(size_t(sfCount));
 	for (int32_t s = 0; s < sfCount; ++s)
@@ -897,7 +899,7 @@ void Collapser::write(CollapseSource &out)
 	o.inputSuperface.resize(sm.inputSuperface.size());
 	for (size_t i = 0; i < sm.inputSuperface.size(); ++i) {
 		const int32_t s = sm.inputSuperface[i];
-		o.inputSuperface[i] = s < 0 ? s : sfId[size_t(find(s))];
+		o.inputSuperface[i] = s < 0 ? s : sfId[size_t(find(s))]; // (-1: no triangle left)
 	}
 	LevelStats &st = o.stats;
 	st.faces = o.triangles.size() / 3;
