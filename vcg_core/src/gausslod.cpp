@@ -584,6 +584,8 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			// this level's face count within its distance bound
 			bool takeCollapsed = false;
 			double secondsCollapse = 0;
+			// (the finer level as delivered was made by collapses, or is such a level reused)
+			const bool deliveredCollapsed = collapsing && !deliveredIsFiner && !delivered.empty();
 			// (a level that is its finer level as built took that mesh: nothing to collapse)
 			if (collapsing && level < finest &&
 			    (deliveredIsFiner ? !(sameAsFiner || lm.stats.reusedFiner) : !delivered.empty())) {
@@ -596,8 +598,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 					collapseSourceOf(topo, std::move(source), delivered);
 				}
 				finer = LevelMesh();
-				if (delivered.mesh.stats.collapses > 0 &&
-				    delivered.mesh.triangles.size() / 3 <= lm.stats.faces) {
+				if (deliveredCollapsed && delivered.mesh.triangles.size() / 3 <= lm.stats.faces) {
 					collapsed = delivered; // (the superface level is no lighter: it is that level)
 					collapsed.mesh.stats.collapses = 0;
 					takeCollapsed = true;
@@ -614,6 +615,18 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 					                farthestInputVertex(topo, collapsed.mesh,
 					                                    collapsed.mesh.stats.distanceBound, threads) <=
 					                    farthestInputVertex(topo, lm, lm.stats.distanceBound, threads);
+				}
+				// (DESIGN 29 against the level delivered, not only the finer superface level
+				// checked above: farther from the input and not kMinLevelSaving lighter than a
+				// collapsed finer level, this level is that level)
+				const LevelStats &outStats = takeCollapsed ? collapsed.mesh.stats : lm.stats;
+				if (deliveredCollapsed &&
+				    outStats.distanceBound > delivered.mesh.stats.distanceBound &&
+				    double(outStats.faces) >
+				        (1 - kMinLevelSaving) * double(delivered.mesh.triangles.size() / 3)) {
+					collapsed = delivered;
+					collapsed.mesh.stats.collapses = 0;
+					takeCollapsed = true;
 				}
 				secondsCollapse = since(tc);
 			}
