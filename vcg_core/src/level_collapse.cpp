@@ -981,7 +981,7 @@ double farthestInputVertex(const Topology &t, const LevelMesh &level, double wit
 	while (buckets < 2 * nT)
 		buckets <<= 1;
 	auto idx = [&](double x, int k) { return int64_t(std::floor((x - lo[k]) / cell)); };
-	std::vector<int32_t> start(buckets + 1, 0), tri;
+	std::vector<int32_t> start, tri;
 	auto forCells = [&](const Vec3 &a, const Vec3 &b, auto fn) {
 		for (int64_t z = idx(a[2], 2); z <= idx(b[2], 2); ++z)
 			for (int64_t y = idx(a[1], 1); y <= idx(b[1], 1); ++y)
@@ -996,19 +996,16 @@ double farthestInputVertex(const Topology &t, const LevelMesh &level, double wit
 				a[j] = std::min(a[j], q[j]), b[j] = std::max(b[j], q[j]);
 		}
 	};
-	Vec3 a, b;
-	for (size_t f = 0; f < nT; ++f) {
-		box(f, a, b);
-		forCells(a, b, [&](uint64_t c) { ++start[c + 1]; });
-	}
-	for (size_t c = 0; c < buckets; ++c)
-		start[c + 1] += start[c];
-	tri.resize(size_t(start[buckets]));
-	std::vector<int32_t> fill(start.begin(), start.end() - 1);
-	for (size_t f = 0; f < nT; ++f) {
-		box(f, a, b);
-		forCells(a, b, [&](uint64_t c) { tri[size_t(fill[c]++)] = int32_t(f); });
-	}
+	fillBuckets<int32_t>(
+	    buckets,
+	    [&](auto emit) {
+		    Vec3 a, b;
+		    for (size_t f = 0; f < nT; ++f) {
+			    box(f, a, b);
+			    forCells(a, b, [&](uint64_t c) { emit(size_t(c), int32_t(f)); });
+		    }
+	    },
+	    start, tri);
 	std::vector<uint8_t> used(t.nV, 0);
 	for (size_t f = 0; f < t.nF; ++f)
 		if (t.faceValid[f])
