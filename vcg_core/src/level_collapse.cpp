@@ -843,6 +843,22 @@ void Collapser::write(CollapseSource &out)
 		if (alive_[f])
 			for (int k = 0; k < 3; ++k)
 				remap[size_t(T_[3 * f + size_t(k)])] = 0;
+	// (each array allocated once, at its size: growing them by doubling held up to twice the
+	// level's cones at this peak)
+	size_t usedV = 0;
+	for (size_t v = 0; v < nV; ++v)
+		usedV += remap[v] >= 0;
+	o.sourceVertex.reserve(usedV);
+	o.positions.reserve(3 * usedV);
+	o.triangles.reserve(3 * live_);
+	o.superface.reserve(live_);
+	o.borderEdges.reserve(live_);
+	if (!srcCorner_.empty()) {
+		o.sourceCorner.reserve(3 * live_);
+		o.sourceFace.reserve(live_);
+	}
+	out.bound.reserve(live_);
+	out.cone.reserve(live_);
 	int32_t nextV = 0;
 	size_t placed = 0;
 	double maxMove = 0;
