@@ -598,11 +598,12 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 					collapseSourceOf(topo, std::move(source), delivered);
 				}
 				finer = LevelMesh();
-				if (deliveredCollapsed && delivered.mesh.triangles.size() / 3 <= lm.stats.faces) {
-					collapsed = delivered; // (the superface level is no lighter: it is that level)
-					collapsed.mesh.stats.collapses = 0;
-					takeCollapsed = true;
-				} else if (lm.stats.distanceBound > 0) {
+				// (a collapsed finer level is this level when the superface level is no lighter,
+				// or, DESIGN 29 against it and not only against the finer superface level checked
+				// above, farther from the input and not kMinLevelSaving lighter)
+				const double deliveredFaces = double(delivered.mesh.triangles.size() / 3);
+				bool reuse = deliveredCollapsed && deliveredFaces <= double(lm.stats.faces);
+				if (!reuse && lm.stats.distanceBound > 0) {
 					CollapseLimits lim;
 					lim.faces = lm.stats.faces;
 					lim.bound = lm.stats.distanceBound;
@@ -616,15 +617,12 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 					                                    collapsed.mesh.stats.distanceBound, threads) <=
 					                    farthestInputVertex(topo, lm, lm.stats.distanceBound, threads);
 				}
-				// (DESIGN 29 against the level delivered, not only the finer superface level
-				// checked above: farther from the input and not kMinLevelSaving lighter than a
-				// collapsed finer level, this level is that level)
 				const LevelStats &outStats = takeCollapsed ? collapsed.mesh.stats : lm.stats;
-				if (deliveredCollapsed &&
-				    outStats.distanceBound > delivered.mesh.stats.distanceBound &&
-				    double(outStats.faces) >
-				        (1 - kMinLevelSaving) * double(delivered.mesh.triangles.size() / 3)) {
-					collapsed = delivered;
+				reuse = reuse || (deliveredCollapsed &&
+				                  outStats.distanceBound > delivered.mesh.stats.distanceBound &&
+				                  double(outStats.faces) > (1 - kMinLevelSaving) * deliveredFaces);
+				if (reuse) { // (taken whole: it is delivered again below)
+					collapsed = std::move(delivered);
 					collapsed.mesh.stats.collapses = 0;
 					takeCollapsed = true;
 				}

@@ -428,14 +428,13 @@ bool flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, S
 /// The distance tolerance on superface s, just triangulated from triangle firstTri of o.
 Failure distanceCheck(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
                       Scratch &w, const ChunkOut &o, std::vector<float> &gap);
-/// A proven upper bound on the distance, both ways, between superface s's input faces and its new
-/// triangles (from firstTri; w.triNormal set), kept per input face in `bound` (max); returned.
 /// Does the input surface nearest to point c (within r, and within `cells` cells of the face
 /// grid) face direction n, as the surface a triangle with centroid c and normal n stands for
 /// must (not the other side of a thin part)?
 bool nearestInputFacing(const Topology &t, const Vec3 &c, const Vec3 &n, double r,
                         double cells = 8);
-
+/// A proven upper bound on the distance, both ways, between superface s's input faces and its new
+/// triangles (from firstTri; w.triNormal set), kept per input face in `bound` (max); returned.
 double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
                      Scratch &w, const ChunkOut &o, std::vector<float> &bound);
 

@@ -763,12 +763,6 @@ Failure retriangulate(const TriangulationInput &in, int32_t s, Scratch &w, Chunk
 	}
 }
 
-} // namespace detail
-} // namespace gausslod
-
-namespace gausslod {
-namespace detail {
-
 bool nearestInputFacing(const Topology &t, const Vec3 &c, const Vec3 &n, double r, double cells)
 {
 	// (the query box is capped at ~(2 cells)^3 grid cells: a farther other side is not looked
