@@ -15,7 +15,11 @@
 #include "level_collapse.h"
 #include "level_passes.h"
 
-#include <array>
+#include <Eigen/LU>
+#include <Eigen/SVD>
+#include <vcg/math/quadric.h> // (its Minimum needs Eigen's LU and SVD, which it does not include)
+#include <vcg/space/plane3.h>
+
 #include <cstring>
 #include <functional>
 #include <queue>
@@ -56,26 +60,27 @@ NormalCone mergeCones(const NormalCone &a, const NormalCone &b)
 	return {axis, half};
 }
 
-// A quadric (sum of weighted squared distances to planes): A (symmetric 3x3), b, c of
-// x'Ax + 2b'x + c, as a00 a01 a02 a11 a12 a22 b0 b1 b2 c.
-using Quadric = std::array<double, 10>;
+// A quadric (sum of weighted squared distances to planes): VCG's, x'Ax + b'x + c.
+using Quadric = vcg::math::Quadric<double>;
 
-void addPlane(Quadric &q, const Vec3 &n, double d, double w)
+// q += w x the squared distance to the plane through p with unit normal n.
+void addPlane(Quadric &q, const Vec3 &n, const Vec3 &p, double w)
 {
-	const double v[10] = {n[0] * n[0], n[0] * n[1], n[0] * n[2], n[1] * n[1], n[1] * n[2],
-	                      n[2] * n[2], n[0] * d,    n[1] * d,    n[2] * d,    d * d};
-	for (size_t i = 0; i < 10; ++i)
-		q[i] += w * v[i];
+	Quadric one;
+	one.ByPlane(vcg::Plane3<double, false>(n.dot(p), n));
+	one *= w;
+	q += one;
 }
 
 // The t that minimises q(p + t n), and the curvature n'An (no minimum along n unless > 0).
 double quadricStep(const Quadric &q, const Vec3 &p, const Vec3 &n, double &curv)
 {
-	const Vec3 An(q[0] * n[0] + q[1] * n[1] + q[2] * n[2], q[1] * n[0] + q[3] * n[1] + q[4] * n[2],
-	              q[2] * n[0] + q[4] * n[1] + q[5] * n[2]);
-	const Vec3 grad(q[0] * p[0] + q[1] * p[1] + q[2] * p[2] + q[6],
-	                q[1] * p[0] + q[3] * p[1] + q[4] * p[2] + q[7],
-	                q[2] * p[0] + q[4] * p[1] + q[5] * p[2] + q[8]);
+	const double *a = q.a, *b = q.b;
+	const Vec3 An(a[0] * n[0] + a[1] * n[1] + a[2] * n[2], a[1] * n[0] + a[3] * n[1] + a[4] * n[2],
+	              a[2] * n[0] + a[4] * n[1] + a[5] * n[2]);
+	const Vec3 grad(a[0] * p[0] + a[1] * p[1] + a[2] * p[2] + 0.5 * b[0],
+	                a[1] * p[0] + a[3] * p[1] + a[4] * p[2] + 0.5 * b[1],
+	                a[2] * p[0] + a[4] * p[1] + a[5] * p[2] + 0.5 * b[2]);
 	curv = n.dot(An);
 	return curv > 0 ? -n.dot(grad) / curv : 0;
 }
@@ -605,8 +610,7 @@ void Collapser::collapse(int32_t v, int32_t u, const Eval &ev)
 		cone_[size_t(coneOf[k])] = cones[k];
 		cosRoom_[size_t(coneOf[k])] = cosRoom(cones[k]);
 	}
-	for (size_t i = 0; i < 10; ++i)
-		Q_[size_t(u)][i] += Q_[size_t(v)][i];
+	Q_[size_t(u)] += Q_[size_t(v)];
 	// v's corners join u's list
 	int32_t tail = head_[size_t(v)];
 	while (next_[size_t(tail)] >= 0)
@@ -766,16 +770,17 @@ bool Collapser::run(CollapseSource &out)
 	for (size_t f = 0; f < nT; ++f)
 		cosRoom_[f] = cosRoom(cone_[f]);
 	// each vertex's quadric: the planes of the finer level's triangles around it (for placement)
-	Q_.assign(nV, Quadric{});
+	Quadric zero;
+	zero.SetZero();
+	Q_.assign(nV, zero);
 	for (size_t f = 0; f < nT; ++f) {
 		const Vec3 nn = normal(int32_t(f));
 		const double a = 0.5 * nn.Norm();
 		if (!(a > 0))
 			continue;
 		const Vec3 un = nn / (2 * a);
-		const double d = -un.dot(P_[size_t(T_[3 * f])]);
 		for (int k = 0; k < 3; ++k)
-			addPlane(Q_[size_t(T_[3 * f + size_t(k)])], un, d, a);
+			addPlane(Q_[size_t(T_[3 * f + size_t(k)])], un, P_[size_t(T_[3 * f])], a);
 	}
 	sf_ = sm.superface;
 	int32_t sfCount = 0; // (over the input faces' ids too: a dropped face's may have no triangle)
