@@ -5,7 +5,8 @@ Runs a gausslod tool on models, then each peer (bench_peers) at every level's fa
 compares Hausdorff distance, mean distance and p95 normal deviation (bench_metrics), as the
 benchmark's per-peer table does (not worse: ours <= peer's; both distances below 1e-9 % equal;
 normals within 0.005 deg). Peer runs and their metrics are cached by (model file, size, mtime,
-method, face count, samples), so a second configuration costs only our own runs.
+method, face count, samples), so a second configuration costs only our own runs. Last, the same
+counts between the peers themselves (how hard the bar is: see bench/README.md).
 
 usage: bench/compare_levels.py [--build B] [--tool T] [--models a,b] [--peers p,q]
                                [--samples N] [--json OUT] [-- gausslod options]
@@ -112,6 +113,21 @@ def main():
                       (1.0 if r[k] <= 1e-12 else float("inf")) for r in rs]
             parts.append("%s %d/%d %.2f" % (short, nw, len(rs), statistics.median(ratios)))
         print("vs %-10s %s" % (p, ", ".join(parts)))
+    # the same bar between the peers themselves (Hausdorff and p95 not worse, of the levels)
+    levels = {}
+    for r in rows:
+        levels.setdefault((r["model"], r["level"]), {})[r["peer"]] = r
+    for p in peers:
+        cells = []
+        for q in peers:
+            if q == p:
+                continue
+            both = [v for v in levels.values() if p in v and q in v]
+            cells.append("vs %s H %d, p95 %d of %d" % (q, *(
+                sum(not_worse(k, v[p]["peer_" + k], v[q]["peer_" + k]) for v in both)
+                for k in ("hausdorff_pct", "normal_p95_deg")), len(both)))
+        if cells:
+            print("peer %-10s %s" % (p, ", ".join(cells)))
     print("faces: %d over all levels" % sum(r["faces"] for r in rows if r["peer"] == peers[0]))
     if a.json:
         with open(a.json, "w") as f:

@@ -13,6 +13,8 @@
 //   hausdorff_pct   max over both directions and all samples (two-sided Hausdorff)
 //   mean_pct        larger of the two one-sided area-weighted mean distances (Montecarlo samples)
 //   *_ab_*          original -> simplified,  *_ba_* simplified -> original
+//   hausdorff_ab_at, hausdorff_ba_at  where each direction's farthest sample lies (mesh units):
+//                   the place to look at when a level's distance is worse than expected
 // Normal deviation: for every Montecarlo sample (both directions), the angle between the normal of
 // the face it lies on and the normal of the closest face of the other mesh. When the closest point
 // lies on an edge or vertex of the other mesh (several faces equally close), the face with the
@@ -188,6 +190,7 @@ struct Closest {
 struct Direction {
 	double maxDist = 0, meanDist = 0;
 	size_t samples = 0;
+	Coord where = Coord(0, 0, 0); ///< the sample farthest from the other surface
 };
 
 Direction measure(MMesh &from, Closest &to, int nSamples, std::vector<double> &angles)
@@ -222,6 +225,8 @@ Direction measure(MMesh &from, Closest &to, int nSamples, std::vector<double> &a
 		double dist, angle;
 		const Coord n = s.face ? s.face->cN() : Coord(0, 0, 0);
 		to.find(s.p, n, dist, angle);
+		if (dist > d.maxDist)
+			d.where = s.p;
 		d.maxDist = std::max(d.maxDist, dist);
 		if (i < areaSamples) {
 			sum += dist;
@@ -351,10 +356,12 @@ int main(int argc, char **argv)
 	            "\"mean_ba_pct\":%.6g,\"normal_p95_deg\":%.4f,\"normal_max_deg\":%.4f,"
 	            "\"sliver_pct\":%.4f,\"nonmanifold_edges\":%zu,\"boundary_edges\":%zu,"
 	            "\"input_boundary_edges\":%zu,\"flipped\":%zu,\"degenerate\":%zu,"
+	            "\"hausdorff_ab_at\":[%.9g,%.9g,%.9g],\"hausdorff_ba_at\":[%.9g,%.9g,%.9g],"
 	            "\"samples\":%zu,\"diag\":%.6g,\"seconds\":%.3f}\n",
 	            b.fn, b.vn, pct(std::max(ab.maxDist, ba.maxDist)), pct(std::max(ab.meanDist, ba.meanDist)),
 	            pct(ab.maxDist), pct(ba.maxDist), pct(ab.meanDist), pct(ba.meanDist), p95, amax,
 	            100.0 * double(slivers) / double(b.fn), eb.nonManifold, eb.boundary, ea.boundary, flipped,
-	            degenerate, ab.samples + ba.samples, diag, bench::now() - t0);
+	            degenerate, ab.where[0], ab.where[1], ab.where[2], ba.where[0], ba.where[1], ba.where[2],
+	            ab.samples + ba.samples, diag, bench::now() - t0);
 	return 0;
 }
