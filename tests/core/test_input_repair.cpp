@@ -148,6 +148,34 @@ TEST(InputRepair, a_soup_s_levels_name_its_first_vertex_at_each_position)
 	}
 }
 
+TEST(InputRepair, closed_shells_that_touch_are_not_welded)
+{
+	// two closed cubes side by side, each with its own vertices: the touching faces' vertices are
+	// at the same positions. Welding them would make every edge there non-manifold (four faces);
+	// a vertex whose edges faces already share is not welded (DESIGN 15), so the two stay closed.
+	FlatMesh m = gridCube(3);
+	const size_t nv = m.positions.size() / 3, nf = m.triangles.size() / 3;
+	for (size_t v = 0; v < nv; ++v)
+		m.positions.insert(m.positions.end(), {m.positions[3 * v] + 1, m.positions[3 * v + 1],
+		                                      m.positions[3 * v + 2]});
+	for (size_t c = 0; c < 3 * nf; ++c)
+		m.triangles.push_back(m.triangles[c] + int32_t(nv));
+	ASSERT_TRUE(topoFacts(m.positions, m.triangles).closedManifold());
+	const Result r = buildLevels(m.view(), Params());
+	ASSERT_TRUE(r.ok) << r.error;
+	EXPECT_EQ(r.input.weldedVertices, 0u);
+	EXPECT_EQ(r.input.verticesLocked, 0u);
+	for (const LevelMesh &lm : r.levels) {
+		EXPECT_EQ(lm.stats.faces, 24u) << "level " << lm.stats.level; // 12 + 12: two exact cubes
+		EXPECT_TRUE(topoFacts(lm.positions, lm.triangles).closedManifold()) << "level " << lm.stats.level;
+	}
+	// the same faces as a soup are welded (every vertex is on an edge one face uses), as MeshLab
+	// does to an STL file: there the two cubes become one mesh
+	const Result s = buildLevels(soupOf(m).view(), Params());
+	ASSERT_TRUE(s.ok) << s.error;
+	EXPECT_EQ(s.input.weldedVertices, soupOf(m).positions.size() / 3 - 2 * nv + 16);
+}
+
 TEST(InputRepair, without_welding_a_soup_stays_as_it_is)
 {
 	const FlatMesh soup = soupOf(loadOff("fandisk.off"));

@@ -134,9 +134,10 @@ std::vector<Entry> makeEntries()
 	    {{"weldVertices", K::Flag, "Weld coincident vertices", "weld vertices at the same position",
 	      "Vertices at exactly the same position are joined before simplifying (the first "
 	      "one is kept), as MeshLab does to STL files on import: a triangle soup (STL, most "
-	      "CAD and BIM exports) then has the shared edges its superfaces grow across. The "
-	      "input is not changed; the log says how many were welded. Off = only vertices "
-	      "that faces already share are joined.",
+	      "CAD and BIM exports) then has the shared edges its superfaces grow across. Only "
+	      "vertices on an edge that one face uses are joined: closed parts that touch stay "
+	      "apart. The input is not changed; the log says how many were welded. Off = only "
+	      "vertices that faces already share are joined.",
 	      double(d.weldVertices), 0, 1, false, true},
 	     &Params::weldVertices},
 	    {{"weldDistance", K::DiagonalFraction, "Weld distance",

@@ -1,8 +1,12 @@
 // Input repair before 2.1: welding coincident vertices (what MeshLab does to STL files on import),
 // so that a triangle soup has the edges that superfaces grow across. One pass over the vertices
-// with an open-addressing hash table; no allocation per vertex.
+// with an open-addressing hash table; no allocation per vertex. Only vertices on an open edge
+// (an edge one face uses) are welded: a vertex whose every edge faces already share has nothing
+// to join, and welding it to another at its position only makes an edge or a vertex
+// non-manifold (two closed shells that touch stay two closed shells).
 #include "engine.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -39,8 +43,8 @@ size_t tableSize(size_t n)
 
 bool finite3(const double *p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
 
-// Exact: each position's first vertex is the key's slot.
-size_t weldExact(const MeshView &m, std::vector<int32_t> &rep)
+// Exact: each position's first vertex is the key's slot. Vertices with skip[v] (if given) stay.
+size_t weldExact(const MeshView &m, const uint8_t *skip, std::vector<int32_t> &rep)
 {
 	const size_t mask = tableSize(m.vertexCount) - 1;
 	std::vector<int32_t> slot(mask + 1, -1);
@@ -48,7 +52,7 @@ size_t weldExact(const MeshView &m, std::vector<int32_t> &rep)
 	for (size_t v = 0; v < m.vertexCount; ++v) {
 		const double *p = m.positions + 3 * v;
 		rep[v] = int32_t(v);
-		if (!finite3(p))
+		if (!finite3(p) || (skip && skip[v]))
 			continue;
 		size_t h = mix(bitsOf(p[0]) ^ mix(bitsOf(p[1]) ^ mix(bitsOf(p[2])))) & mask;
 		for (;; h = (h + 1) & mask) {
@@ -71,7 +75,7 @@ size_t weldExact(const MeshView &m, std::vector<int32_t> &rep)
 // Within a distance d: kept vertices are listed per grid cell of size d (a slot per occupied
 // cell, a chain through `next`); a vertex becomes the lowest kept vertex within d in the 27 cells
 // around it, or is kept.
-size_t weldWithin(const MeshView &m, double d, std::vector<int32_t> &rep)
+size_t weldWithin(const MeshView &m, double d, const uint8_t *skip, std::vector<int32_t> &rep)
 {
 	const size_t mask = tableSize(m.vertexCount) - 1;
 	struct Slot {
@@ -100,7 +104,7 @@ size_t weldWithin(const MeshView &m, double d, std::vector<int32_t> &rep)
 	for (size_t v = 0; v < m.vertexCount; ++v) {
 		const double *p = m.positions + 3 * v;
 		rep[v] = int32_t(v);
-		if (!finite3(p))
+		if (!finite3(p) || (skip && skip[v]))
 			continue;
 		const int64_t c[3] = {cellOf(p[0]), cellOf(p[1]), cellOf(p[2])};
 		int32_t best = -1;
@@ -132,12 +136,70 @@ size_t weldWithin(const MeshView &m, double d, std::vector<int32_t> &rep)
 	return merged;
 }
 
+// closed[v] = 1 for each vertex of `asked` (nonzero) whose every edge two or more faces use. A
+// vertex that one face alone uses is open (a triangle soup's are: nothing to count); the edges
+// between vertices that several faces use are counted by sorting their keys.
+std::vector<uint8_t> closedVertices(const MeshView &m, const std::vector<uint8_t> &asked)
+{
+	std::vector<uint8_t> uses(m.vertexCount, 0); // (0, 1, 2 = more)
+	for (size_t c = 0; c < 3 * m.faceCount; ++c) {
+		const size_t v = size_t(m.triangles[c]);
+		if (v < m.vertexCount && uses[v] < 2)
+			++uses[v];
+	}
+	std::vector<uint8_t> closed(m.vertexCount, 0);
+	std::vector<uint64_t> keys;
+	auto shared = [&](size_t v) { return v < m.vertexCount && uses[v] == 2; };
+	for (size_t f = 0; f < m.faceCount; ++f)
+		for (size_t k = 0; k < 3; ++k) {
+			const size_t a = size_t(m.triangles[3 * f + k]), b = size_t(m.triangles[3 * f + (k + 1) % 3]);
+			if (a != b && shared(a) && shared(b) && (asked[a] || asked[b]))
+				keys.push_back(uint64_t(std::min(a, b)) << 32 | uint64_t(std::max(a, b)));
+		}
+	std::sort(keys.begin(), keys.end());
+	for (size_t v = 0; v < m.vertexCount; ++v)
+		closed[v] = asked[v] && shared(v);
+	for (size_t i = 0; i < keys.size();) { // (an edge one face uses opens both its ends)
+		size_t j = i + 1;
+		while (j < keys.size() && keys[j] == keys[i])
+			++j;
+		if (j - i == 1)
+			closed[size_t(keys[i] >> 32)] = closed[size_t(keys[i] & 0xffffffffu)] = 0;
+		i = j;
+	}
+	// (a vertex with an edge no other face shares is open even when that edge's other end is
+	// used once: those edges were not listed)
+	for (size_t f = 0; f < m.faceCount; ++f)
+		for (size_t k = 0; k < 3; ++k) {
+			const size_t a = size_t(m.triangles[3 * f + k]), b = size_t(m.triangles[3 * f + (k + 1) % 3]);
+			if (a != b && a < m.vertexCount && b < m.vertexCount && (!shared(a) || !shared(b)))
+				closed[a] = closed[b] = 0;
+		}
+	return closed;
+}
+
 } // namespace
 
 size_t weldVertices(const MeshView &m, double distance, std::vector<int32_t> &rep)
 {
 	rep.resize(m.vertexCount);
-	return distance > 0 ? weldWithin(m, distance, rep) : weldExact(m, rep);
+	auto weld = [&](const uint8_t *skip) {
+		return distance > 0 ? weldWithin(m, distance, skip, rep) : weldExact(m, skip, rep);
+	};
+	const size_t merged = weld(nullptr);
+	if (merged == 0)
+		return 0;
+	// the vertices a weld would touch (an exact weld pairs only these again; a weld within a
+	// distance may pair others once some stay: all are asked)
+	std::vector<uint8_t> asked(m.vertexCount, distance > 0 ? 1 : 0);
+	if (!(distance > 0))
+		for (size_t v = 0; v < m.vertexCount; ++v)
+			if (rep[v] != int32_t(v))
+				asked[v] = asked[size_t(rep[v])] = 1;
+	const std::vector<uint8_t> closed = closedVertices(m, asked);
+	if (std::find(closed.begin(), closed.end(), 1) == closed.end())
+		return merged;
+	return weld(closed.data());
 }
 
 } // namespace detail
