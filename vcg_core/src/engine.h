@@ -436,7 +436,8 @@ inline int mergedLevel(int8_t origin) { return -2 - origin; } ///< for origin <=
 
 /// Input repair: rep[v] = the vertex v is welded into (v itself if none): the lowest-index vertex
 /// at exactly v's position (distance 0) or, for distance > 0, the lowest-index kept vertex within
-/// that distance. Non-finite positions are never welded. Returns how many vertices were welded.
+/// that distance. Non-finite positions are never welded, nor are vertices whose every edge two or
+/// more faces use (by index): only vertices on an open edge join. Returns how many were welded.
 size_t weldVertices(const MeshView &mesh, double distance, std::vector<int32_t> &rep);
 
 /// Builds Topology from the input (validated by the caller). featureAngleDeg: 2.3.2 threshold.
