@@ -136,9 +136,9 @@ size_t weldWithin(const MeshView &m, double d, const uint8_t *skip, std::vector<
 	return merged;
 }
 
-// closed[v] = 1 for each vertex of `asked` (nonzero) whose every edge two or more faces use. A
-// vertex that one face alone uses is open (a triangle soup's are: nothing to count); the edges
-// between vertices that several faces use are counted by sorting their keys.
+// closed[v] = 1 for each vertex of `asked` (nonzero) whose every edge two or more faces use. An
+// edge with an end that one face alone uses is that face's only (a triangle soup's all are:
+// nothing to count); the edges between vertices that several faces use are counted by sorting.
 std::vector<uint8_t> closedVertices(const MeshView &m, const std::vector<uint8_t> &asked)
 {
 	std::vector<uint8_t> uses(m.vertexCount, 0); // (0, 1, 2 = more)
@@ -148,18 +148,20 @@ std::vector<uint8_t> closedVertices(const MeshView &m, const std::vector<uint8_t
 			++uses[v];
 	}
 	std::vector<uint8_t> closed(m.vertexCount, 0);
-	std::vector<uint64_t> keys;
-	auto shared = [&](size_t v) { return v < m.vertexCount && uses[v] == 2; };
-	for (size_t f = 0; f < m.faceCount; ++f)
-		for (size_t k = 0; k < 3; ++k) {
-			const size_t a = size_t(m.triangles[3 * f + k]), b = size_t(m.triangles[3 * f + (k + 1) % 3]);
-			if (a != b && shared(a) && shared(b) && (asked[a] || asked[b]))
-				keys.push_back(uint64_t(std::min(a, b)) << 32 | uint64_t(std::max(a, b)));
-		}
-	std::sort(keys.begin(), keys.end());
 	for (size_t v = 0; v < m.vertexCount; ++v)
-		closed[v] = asked[v] && shared(v);
-	for (size_t i = 0; i < keys.size();) { // (an edge one face uses opens both its ends)
+		closed[v] = asked[v] && uses[v] == 2;
+	std::vector<uint64_t> keys;
+	for (size_t c = 0; c < 3 * m.faceCount; ++c) {
+		const size_t a = size_t(m.triangles[c]), b = size_t(m.triangles[c - c % 3 + (c + 1) % 3]);
+		if (a == b || a >= m.vertexCount || b >= m.vertexCount)
+			continue;
+		if (uses[a] < 2 || uses[b] < 2) // (one face uses it: it opens both its ends)
+			closed[a] = closed[b] = 0;
+		else if (asked[a] || asked[b])
+			keys.push_back(uint64_t(std::min(a, b)) << 32 | uint64_t(std::max(a, b)));
+	}
+	std::sort(keys.begin(), keys.end());
+	for (size_t i = 0; i < keys.size();) {
 		size_t j = i + 1;
 		while (j < keys.size() && keys[j] == keys[i])
 			++j;
@@ -167,14 +169,6 @@ std::vector<uint8_t> closedVertices(const MeshView &m, const std::vector<uint8_t
 			closed[size_t(keys[i] >> 32)] = closed[size_t(keys[i] & 0xffffffffu)] = 0;
 		i = j;
 	}
-	// (a vertex with an edge no other face shares is open even when that edge's other end is
-	// used once: those edges were not listed)
-	for (size_t f = 0; f < m.faceCount; ++f)
-		for (size_t k = 0; k < 3; ++k) {
-			const size_t a = size_t(m.triangles[3 * f + k]), b = size_t(m.triangles[3 * f + (k + 1) % 3]);
-			if (a != b && a < m.vertexCount && b < m.vertexCount && (!shared(a) || !shared(b)))
-				closed[a] = closed[b] = 0;
-		}
 	return closed;
 }
 
