@@ -4,6 +4,7 @@
 #include "engine.h"
 #include "level_collapse.h"
 #include "level_passes.h"
+#include "reduce.h"
 
 #include <algorithm>
 #include <chrono>
@@ -517,6 +518,9 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 		                        !topo.UV && !mesh.keepFace;
 		CollapseSource delivered, collapsed;
 		bool deliveredIsFiner = false; // (the finer level as built: `finer` is its mesh)
+		// DESIGN 51: levels by target are also made by collapses of the level delivered before
+		// them (the finest, of the input): the one that reaches the target with less is taken
+		CollapseSource chain;
 		for (int level = finest; level >= 0; --level) {
 			const auto tl = std::chrono::steady_clock::now();
 			if (!report(0.05 + 0.95 * double(finest - level) / params.maxLevel, "building level"))
@@ -628,6 +632,39 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 					takeCollapsed = true;
 				}
 				secondsCollapse = since(tc);
+			}
+			if (!byAngle) {
+				const auto tr = std::chrono::steady_clock::now();
+				if (level == finest)
+					inputSource(topo, mesh, chain);
+				ReduceLimits rl;
+				rl.level = level;
+				rl.placement = topo.UV == nullptr;
+				rl.faces = byFaces ? target : 0;
+				rl.bound = byFaces ? HUGE_VAL : params.levelDistances[size_t(level)] * topo.diagonal;
+				ReduceReport rr;
+				CollapseSource reduced;
+				const bool got = reduceLevel(topo, mesh, chain, rl, threads, reduced, rr);
+				const LevelStats &rs = reduced.mesh.stats;
+				bool take;
+				if (byFaces)
+					take = lm.stats.faces > target
+					           ? rs.faces < lm.stats.faces
+					           : got && farthestInputVertex(topo, reduced.mesh, rs.distanceBound,
+					                                        threads) <
+					                        farthestInputVertex(topo, lm, lm.stats.distanceBound,
+					                                            threads);
+				else
+					take = rs.faces < lm.stats.faces ||
+					       (rs.faces == lm.stats.faces && rs.distanceBound < lm.stats.distanceBound);
+				if (take) {
+					collapsed = std::move(reduced);
+					takeCollapsed = true;
+					chain = collapsed; // (the next level starts from this one)
+				} else {
+					collapseSourceOf(topo, lm, chain);
+				}
+				secondsCollapse += since(tr);
 			}
 			std::swap(carry, nextCarry);
 			if (byFaces) {

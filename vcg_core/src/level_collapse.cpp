@@ -15,10 +15,6 @@
 #include "level_collapse.h"
 #include "level_passes.h"
 
-#include <Eigen/LU>
-#include <Eigen/SVD>
-#include <vcg/math/quadric.h> // (its Minimum needs Eigen's LU and SVD, which it does not include)
-#include <vcg/space/plane3.h>
 
 #include <cstring>
 #include <functional>
@@ -58,31 +54,6 @@ NormalCone mergeCones(const NormalCone &a, const NormalCone &b)
 	Vec3 axis = a.axis * std::cos(r) + w * std::sin(r);
 	axis.Normalize();
 	return {axis, half};
-}
-
-// A quadric (sum of weighted squared distances to planes): VCG's, x'Ax + b'x + c.
-using Quadric = vcg::math::Quadric<double>;
-
-// q += w x the squared distance to the plane through p with unit normal n.
-void addPlane(Quadric &q, const Vec3 &n, const Vec3 &p, double w)
-{
-	Quadric one;
-	one.ByPlane(vcg::Plane3<double, false>(n.dot(p), n));
-	one *= w;
-	q += one;
-}
-
-// The t that minimises q(p + t n), and the curvature n'An (no minimum along n unless > 0).
-double quadricStep(const Quadric &q, const Vec3 &p, const Vec3 &n, double &curv)
-{
-	const double *a = q.a, *b = q.b;
-	const Vec3 An(a[0] * n[0] + a[1] * n[1] + a[2] * n[2], a[1] * n[0] + a[3] * n[1] + a[4] * n[2],
-	              a[2] * n[0] + a[4] * n[1] + a[5] * n[2]);
-	const Vec3 grad(a[0] * p[0] + a[1] * p[1] + a[2] * p[2] + 0.5 * b[0],
-	                a[1] * p[0] + a[3] * p[1] + a[4] * p[2] + 0.5 * b[1],
-	                a[2] * p[0] + a[4] * p[1] + a[5] * p[2] + 0.5 * b[2]);
-	curv = n.dot(An);
-	return curv > 0 ? -n.dot(grad) / curv : 0;
 }
 
 struct Eval {
@@ -702,7 +673,7 @@ void Collapser::place()
 			continue;
 		n.Normalize();
 		double curv = 0;
-		const double t = std::max(-room, std::min(room, quadricStep(Q_[v], P_[v], n, curv)));
+		const double t = std::max(-room, std::min(room, Q_[v].stepAlong(P_[v], n, curv)));
 		if (!(curv > 0) || t == 0)
 			continue;
 		const Vec3 old = P_[v];
@@ -770,9 +741,7 @@ bool Collapser::run(CollapseSource &out)
 	for (size_t f = 0; f < nT; ++f)
 		cosRoom_[f] = cosRoom(cone_[f]);
 	// each vertex's quadric: the planes of the finer level's triangles around it (for placement)
-	Quadric zero;
-	zero.SetZero();
-	Q_.assign(nV, zero);
+	Q_.assign(nV, Quadric());
 	for (size_t f = 0; f < nT; ++f) {
 		const Vec3 nn = normal(int32_t(f));
 		const double a = 0.5 * nn.Norm();
@@ -780,7 +749,7 @@ bool Collapser::run(CollapseSource &out)
 			continue;
 		const Vec3 un = nn / (2 * a);
 		for (int k = 0; k < 3; ++k)
-			addPlane(Q_[size_t(T_[3 * f + size_t(k)])], un, P_[size_t(T_[3 * f])], a);
+			Q_[size_t(T_[3 * f + size_t(k)])].addPlane(un, -un.dot(P_[size_t(T_[3 * f])]), a);
 	}
 	sf_ = sm.superface;
 	int32_t sfCount = 0; // (over the input faces' ids too: a dropped face's may have no triangle)

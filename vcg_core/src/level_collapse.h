@@ -4,6 +4,7 @@
 #pragma once
 
 #include "engine.h"
+#include "quadric.h"
 
 namespace gausslod {
 namespace detail {
@@ -22,6 +23,12 @@ struct CollapseSource {
 	LevelMesh mesh;
 	std::vector<double> bound;
 	std::vector<NormalCone> cone;
+	/// Optional (reduce.h): per vertex, the quadric of the input planes it stands for; per
+	/// triangle, an upper bound on its texture-coordinate error; per input face (of the mesh the
+	/// levels are built on), the triangle standing for it (-1: a skipped face).
+	std::vector<Quadric> quadric;
+	std::vector<float> uvError;
+	std::vector<int32_t> inputTri;
 	void clear() { *this = CollapseSource(); }
 	bool empty() const { return mesh.triangles.empty(); }
 };

@@ -1,0 +1,1141 @@
+// Beyond the paper (docs/DESIGN.md, 51): a level completed by edge collapses (reduce.h).
+//
+// Garland and Heckbert, "Surface Simplification Using Quadric Error Metrics", SIGGRAPH 1997: each
+// vertex carries the quadric of the input planes it stands for; an edge's cost is the quadric of
+// both ends at the point where it is least (or at the kept end); the least cost goes first, from a
+// heap whose entries are checked when they come up (lazy, as in quadric simplifiers). Each
+// collapse is proven (reduce_patch.h): the fan's triangles carry a bound on their distance to the
+// input, both ways, and the cone of the input normals they stand for.
+//
+// Vertex kinds (one table every step consults): free vertices move anywhere; a vertex on a mesh
+// boundary moves along it, to a neighbour on it; a vertex on a delimiter chain (a seam, a material
+// border) along the chain; a locked input vertex, a junction of delimiters and a vertex where
+// boundary loops touch never move (they may receive collapses).
+#include "reduce.h"
+#include "level_passes.h"
+#include "reduce_patch.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <queue>
+
+namespace gausslod {
+namespace detail {
+
+double Quadric::stepAlong(const Vec3 &p, const Vec3 &n, double &curv) const
+{
+	const Vec3 An(q[0] * n[0] + q[1] * n[1] + q[2] * n[2], q[1] * n[0] + q[3] * n[1] + q[4] * n[2],
+	              q[2] * n[0] + q[4] * n[1] + q[5] * n[2]);
+	const Vec3 grad(q[0] * p[0] + q[1] * p[1] + q[2] * p[2] + q[6],
+	                q[1] * p[0] + q[3] * p[1] + q[4] * p[2] + q[7],
+	                q[2] * p[0] + q[4] * p[1] + q[5] * p[2] + q[8]);
+	curv = n.dot(An);
+	return curv > 0 ? -n.dot(grad) / curv : 0;
+}
+
+bool Quadric::minimum(const Vec3 &m, Vec3 &out) const
+{
+	Eigen::Matrix3d A;
+	A << q[0], q[1], q[2], q[1], q[3], q[4], q[2], q[4], q[5];
+	Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+	es.computeDirect(A);
+	const Eigen::Vector3d ev = es.eigenvalues();
+	const double top = ev(2);
+	if (!(top > 0))
+		return false;
+	const Eigen::Vector3d x0(m[0], m[1], m[2]);
+	const Eigen::Vector3d g = A * x0 + Eigen::Vector3d(q[6], q[7], q[8]);
+	Eigen::Vector3d x = x0;
+	for (int i = 0; i < 3; ++i)
+		if (ev(i) > 1e-3 * top) {
+			const Eigen::Vector3d e = es.eigenvectors().col(i);
+			x -= e * (e.dot(g) / ev(i));
+		}
+	out = Vec3(x(0), x(1), x(2));
+	return std::isfinite(out[0]) && std::isfinite(out[1]) && std::isfinite(out[2]);
+}
+
+namespace {
+
+constexpr int kMaxRing = 32;          // a vertex with more triangles around it is not removed
+constexpr double kFacing = 1e-3;      // cos of the steepest triangle allowed against the patch
+constexpr double kFacingCells = 3;    // the thin-part test's reach, in face-grid cells
+constexpr double kBorderWeight = 1.0; // boundary and delimiter planes, per squared edge length
+
+enum Kind : uint8_t { kFree, kBoundary, kSeam, kFixed, kGone };
+
+// Operations: full collapses with the kept vertex at the quadric's least, the edge's middle, or
+// either end; half-edge collapses a -> b and b -> a.
+enum Op : uint8_t { kAtBest, kAtMiddle, kAtA, kAtB, kHalfAB, kHalfBA, kOps };
+
+struct Entry {
+	double cost;
+	int32_t a, b;
+	uint32_t sa, sb;
+	uint8_t op, tried;
+	bool operator<(const Entry &o) const // (the heap's top: least cost, then lowest a, b, op)
+	{
+		if (cost != o.cost)
+			return cost > o.cost;
+		if (a != o.a)
+			return a > o.a;
+		if (b != o.b)
+			return b > o.b;
+		return op > o.op;
+	}
+};
+
+// The triangles around a vertex in counter-clockwise order: face[i] = (v, nb[i], nb[i+1]);
+// closed: nb[n] == nb[0].
+struct Ring {
+	int n = 0;
+	bool closed = false;
+	int32_t face[kMaxRing];
+	int32_t corner[kMaxRing]; // (v's corner in face[i])
+	int32_t nb[kMaxRing + 1];
+	void rotate(int s) // (a closed ring, starting at face s)
+	{
+		int32_t f[kMaxRing], c[kMaxRing], w[kMaxRing];
+		for (int i = 0; i < n; ++i)
+			f[i] = face[(i + s) % n], c[i] = corner[(i + s) % n], w[i] = nb[(i + s) % n];
+		for (int i = 0; i < n; ++i)
+			face[i] = f[i], corner[i] = c[i], nb[i] = w[i];
+		nb[n] = nb[0];
+	}
+	int find(int32_t w) const
+	{
+		for (int i = 0; i < n; ++i)
+			if (nb[i] == w)
+				return i;
+		return closed || nb[n] != w ? -1 : n;
+	}
+};
+
+// One collapse ready to be proven and made.
+struct Plan {
+	int32_t kept = -1, gone = -1; // (a full collapse: kept takes the new position)
+	bool full = false;
+	Vec3 pos;
+	PatchCase pc;
+	int32_t oldId[PatchCase::kMaxTris];  // (per old triangle of pc: its mesh triangle)
+	int32_t newId[PatchCase::kMaxTris];  // (per new triangle: the mesh triangle it reuses)
+	int32_t point[PatchCase::kMaxPts];   // (per local point: its mesh vertex)
+	int32_t dead[2];
+	int nDead = 0;
+	int32_t keptCorner[2] = {-1, -1}; // (half: u's corners in the two dead triangles)
+	PatchProof proof;
+	double bound[PatchCase::kMaxTris];
+};
+
+class Reducer {
+public:
+	Reducer(const Topology &t, const MeshView &mesh, const CollapseSource &src,
+	        const ReduceLimits &lim, size_t threads)
+	    : t_(t), mesh_(mesh), src_(src), lim_(lim), threads_(threads)
+	{
+	}
+	bool run(CollapseSource &out, ReduceReport &report);
+
+private:
+	const Topology &t_;
+	const MeshView &mesh_;
+	const CollapseSource &src_;
+	const ReduceLimits &lim_;
+	const size_t threads_;
+	std::vector<Vec3> P_;
+	std::vector<int32_t> srcV_, T_, srcC_, head_, next_, fwd_;
+	std::vector<uint8_t> alive_, dlm_, kind_, blocked_;
+	std::vector<uint32_t> stamp_;
+	std::vector<double> e_;
+	std::vector<NormalCone> cone_;
+	std::vector<float> uvErr_;
+	std::vector<Quadric> Q_;
+	std::priority_queue<Entry> heap_;
+	size_t live_ = 0, collapses_ = 0;
+	std::vector<int32_t> scratch_;
+
+	Vec3 normal(int32_t f) const
+	{
+		const Vec3 &a = P_[size_t(T_[3 * f])], &b = P_[size_t(T_[3 * f + 1])],
+		           &c = P_[size_t(T_[3 * f + 2])];
+		return (b - a) ^ (c - a);
+	}
+	bool ring(int32_t v, Ring &r) const;
+	void setUp();
+	void classify();
+	double opCost(int32_t a, int32_t b, int op, Vec3 &pos) const;
+	bool allowed(int32_t a, int32_t b, int op, bool boundaryEdge, bool delimiterEdge) const;
+	bool edgeFlags(int32_t a, int32_t b, bool &boundaryEdge, bool &delimiterEdge) const;
+	bool bestOp(int32_t a, int32_t b, uint8_t tried, Entry &e) const;
+	void pushEdges(int32_t v);
+	bool planFull(int32_t u, int32_t v, const Vec3 &p, Plan &pl) const;
+	bool planHalf(int32_t v, int32_t u, Plan &pl) const;
+	bool plan(int32_t a, int32_t b, int op, const Vec3 &pos, Plan &pl) const;
+	double slop() const { return 1e-12 * t_.diagonal; }
+	bool check(Plan &pl) const;
+	bool facesInput(const Plan &pl) const;
+	/// The cost of a collapse whose quadric error is q and whose largest gap is g.
+	double cost(int32_t a, int32_t b, double g, double q) const;
+	/// The gap of an operation (HUGE_VAL if it is not possible).
+	double gapOf(int32_t a, int32_t b, int op, const Vec3 &pos) const;
+	void apply(const Plan &pl);
+	void prune(int32_t v);
+	void write(CollapseSource &out, ReduceReport &report);
+};
+
+bool Reducer::ring(int32_t v, Ring &r) const
+{
+	r.n = 0;
+	for (int32_t c = head_[size_t(v)]; c >= 0; c = next_[size_t(c)]) {
+		const int32_t f = heFace(c);
+		if (!alive_[size_t(f)])
+			continue;
+		if (r.n == kMaxRing)
+			return false;
+		r.face[r.n] = f;
+		r.corner[r.n] = c;
+		++r.n;
+	}
+	if (r.n == 0)
+		return false;
+	// order: face (v, a, b) is followed by the face whose a is this b
+	int32_t a[kMaxRing], b[kMaxRing];
+	for (int i = 0; i < r.n; ++i) {
+		a[i] = T_[size_t(heNext(r.corner[i]))];
+		b[i] = T_[size_t(hePrev(r.corner[i]))];
+	}
+	int start = 0, starts = 0;
+	for (int i = 0; i < r.n; ++i) {
+		int prev = 0;
+		for (int j = 0; j < r.n; ++j)
+			prev += b[j] == a[i];
+		if (prev > 1)
+			return false; // (non-manifold at v)
+		if (prev == 0)
+			start = i, ++starts;
+	}
+	if (starts > 1)
+		return false;
+	r.closed = starts == 0;
+	int32_t f[kMaxRing], c[kMaxRing];
+	int cur = start;
+	for (int k = 0; k < r.n; ++k) {
+		f[k] = r.face[cur];
+		c[k] = r.corner[cur];
+		r.nb[k] = a[cur];
+		r.nb[k + 1] = b[cur];
+		int nx = -1;
+		for (int j = 0; j < r.n && nx < 0; ++j)
+			if (a[j] == b[cur])
+				nx = j;
+		if (k + 1 < r.n && nx < 0)
+			return false;
+		cur = nx;
+	}
+	if (r.closed && r.nb[r.n] != r.nb[0])
+		return false;
+	for (int k = 0; k < r.n; ++k)
+		r.face[k] = f[k], r.corner[k] = c[k];
+	for (int i = 0; i < r.n; ++i) // (every neighbour once: else the fan is pinched)
+		for (int j = i + 1; j < r.n + (r.closed ? 0 : 1); ++j)
+			if (r.nb[i] == r.nb[j])
+				return false;
+	return true;
+}
+
+
+// The corner of the other live triangle on the edge a -> b of corner c (its corner at b, edge
+// b -> a); -1 if there is none, -2 if the edge is not between exactly two consistently oriented
+// triangles.
+int32_t twinOf(const std::vector<int32_t> &T, const std::vector<int32_t> &head,
+               const std::vector<int32_t> &next, const std::vector<uint8_t> &alive, int32_t c)
+{
+	const int32_t f = heFace(c), a = T[size_t(c)], b = T[size_t(heNext(c))];
+	int32_t found = -1;
+	for (int32_t d = head[size_t(b)]; d >= 0; d = next[size_t(d)]) {
+		const int32_t g = heFace(d);
+		if (g == f || !alive[size_t(g)])
+			continue;
+		if (T[size_t(heNext(d))] == a) {
+			if (found >= 0)
+				return -2;
+			found = d;
+		} else if (T[size_t(hePrev(d))] == a) {
+			return -2; // (the same direction: inconsistent or non-manifold)
+		}
+	}
+	return found;
+}
+
+NormalCone mergeNormalCones(const NormalCone &a, const NormalCone &b)
+{
+	const double d = angleDeg(a.axis, b.axis);
+	if (d + b.half <= a.half)
+		return a;
+	if (d + a.half <= b.half)
+		return b;
+	const double half = 0.5 * (d + a.half + b.half);
+	if (half >= 180)
+		return {a.axis, 180};
+	Vec3 w = b.axis - a.axis * b.axis.dot(a.axis);
+	const double wl = w.Norm();
+	if (wl < 1e-15)
+		return {a.axis, half};
+	w /= wl;
+	const double r = (half - a.half) * M_PI / 180; // (a's axis turned towards b's by this)
+	Vec3 axis = a.axis * std::cos(r) + w * std::sin(r);
+	axis.Normalize();
+	return {axis, half};
+}
+
+void Reducer::setUp()
+{
+	const LevelMesh &sm = src_.mesh;
+	const size_t nV = sm.sourceVertex.size(), nT = sm.triangles.size() / 3;
+	P_.resize(nV);
+	for (size_t v = 0; v < nV; ++v)
+		P_[v] = Vec3(&sm.positions[3 * v]);
+	srcV_ = sm.sourceVertex;
+	T_ = sm.triangles;
+	srcC_ = sm.sourceCorner.size() == 3 * nT ? sm.sourceCorner : std::vector<int32_t>();
+	alive_.assign(nT, 1);
+	live_ = nT;
+	head_.assign(nV, -1);
+	next_.assign(3 * nT, -1);
+	for (size_t c = 3 * nT; c-- > 0;) {
+		next_[c] = head_[size_t(T_[c])];
+		head_[size_t(T_[c])] = int32_t(c);
+	}
+	e_ = src_.bound;
+	cone_ = src_.cone;
+	uvErr_ = src_.uvError.size() == nT ? src_.uvError : std::vector<float>(nT, 0.0f);
+	fwd_.assign(nT, -1);
+	stamp_.assign(nV, 0);
+	blocked_.assign(nV, 0);
+	// delimiters: an edge whose two triangles differ in face key, or in corner key at an end
+	dlm_.assign(3 * nT, 0);
+	const bool keys = (mesh_.faceKey || mesh_.cornerKey) && !srcC_.empty() &&
+	                  sm.sourceFace.size() == nT;
+	for (size_t c = 0; keys && c < 3 * nT; ++c) {
+		const int32_t d = twinOf(T_, head_, next_, alive_, int32_t(c));
+		if (d < 0)
+			continue;
+		const int32_t sf = sm.sourceFace[c / 3], sg = sm.sourceFace[size_t(heFace(d))];
+		bool cut = mesh_.faceKey && mesh_.faceKey[sf] != mesh_.faceKey[sg];
+		if (mesh_.cornerKey) { // (c is at a, d at b; d's next is its corner at a)
+			const uint32_t *K = mesh_.cornerKey;
+			cut = cut || K[srcC_[c]] != K[srcC_[size_t(heNext(d))]] ||
+			      K[srcC_[size_t(heNext(int32_t(c)))]] != K[srcC_[size_t(d)]];
+		}
+		dlm_[c] = cut;
+	}
+	// quadrics: carried, or the planes of the source's triangles (area-weighted) and of its
+	// boundary and delimiter edges (orthogonal to the triangle, through the edge)
+	if (src_.quadric.size() == nV) {
+		Q_ = src_.quadric;
+	} else {
+		Q_.assign(nV, Quadric());
+		for (size_t f = 0; f < nT; ++f) {
+			const Vec3 nn = normal(int32_t(f));
+			const double len = nn.Norm();
+			if (!(len > 0))
+				continue;
+			const Vec3 un = nn / len;
+			const Vec3 &p0 = P_[size_t(T_[3 * f])];
+			for (int k = 0; k < 3; ++k)
+				Q_[size_t(T_[3 * f + size_t(k)])].addPlane(un, -un.dot(p0), 0.5 * len);
+			for (int k = 0; k < 3; ++k) {
+				const int32_t c = int32_t(3 * f) + k;
+				if (!dlm_[size_t(c)] && twinOf(T_, head_, next_, alive_, c) != -1)
+					continue;
+				const Vec3 &a = P_[size_t(T_[size_t(c)])], &b = P_[size_t(T_[size_t(heNext(c))])];
+				Vec3 m = (b - a) ^ un;
+				const double ml = m.Norm();
+				if (!(ml > 0))
+					continue;
+				m /= ml;
+				const double w = kBorderWeight * (b - a).SquaredNorm();
+				Q_[size_t(T_[size_t(c)])].addPlane(m, -m.dot(a), w);
+				Q_[size_t(T_[size_t(heNext(c))])].addPlane(m, -m.dot(a), w);
+			}
+		}
+	}
+	classify();
+}
+
+void Reducer::classify()
+{
+	const size_t nV = P_.size();
+	kind_.assign(nV, kGone);
+	parallelRanges(nV, threads_, [&](size_t b, size_t e, size_t) {
+		Ring r;
+		for (size_t v = b; v < e; ++v) {
+			if (head_[v] < 0)
+				continue;
+			if (t_.vertexLocked[size_t(srcV_[v])] || !ring(int32_t(v), r)) {
+				kind_[v] = kFixed;
+				continue;
+			}
+			int delimiters = 0;
+			for (int i = 0; i < r.n; ++i)
+				delimiters += dlm_[size_t(r.corner[i])];
+			if (!r.closed) // (the last edge, nb[n] -> v, is a boundary edge: no delimiter)
+				kind_[v] = delimiters == 0 ? kBoundary : kFixed;
+			else
+				kind_[v] = delimiters == 0 ? kFree : delimiters == 2 ? kSeam : kFixed;
+		}
+	});
+}
+
+bool Reducer::edgeFlags(int32_t a, int32_t b, bool &boundaryEdge, bool &delimiterEdge) const
+{
+	int ab = 0, ba = 0;
+	delimiterEdge = false;
+	for (int32_t c = head_[size_t(a)]; c >= 0; c = next_[size_t(c)]) {
+		if (!alive_[size_t(heFace(c))])
+			continue;
+		if (T_[size_t(heNext(c))] == b) {
+			++ab;
+			delimiterEdge = delimiterEdge || dlm_[size_t(c)];
+		} else if (T_[size_t(hePrev(c))] == b) {
+			++ba;
+			delimiterEdge = delimiterEdge || dlm_[size_t(hePrev(c))];
+		}
+	}
+	boundaryEdge = ab + ba == 1;
+	return ab + ba >= 1 && ab <= 1 && ba <= 1;
+}
+
+bool Reducer::allowed(int32_t a, int32_t b, int op, bool boundaryEdge, bool delimiterEdge) const
+{
+	const uint8_t ka = kind_[size_t(a)], kb = kind_[size_t(b)];
+	if (ka == kGone || kb == kGone)
+		return false;
+	const bool bothFree = ka == kFree && kb == kFree;
+	if (op < kHalfAB)
+		return lim_.placement && bothFree;
+	if (lim_.placement && bothFree)
+		return false; // (the full collapses at either end are the same and placed)
+	const uint8_t kr = op == kHalfAB ? ka : kb; // (the removed vertex)
+	switch (kr) {
+	case kFree:
+		return !boundaryEdge;
+	case kBoundary:
+		return boundaryEdge;
+	case kSeam:
+		return delimiterEdge && !boundaryEdge;
+	default:
+		return false;
+	}
+}
+
+double Reducer::opCost(int32_t a, int32_t b, int op, Vec3 &pos) const
+{
+	Quadric q = Q_[size_t(a)];
+	q += Q_[size_t(b)];
+	const Vec3 &pa = P_[size_t(a)], &pb = P_[size_t(b)];
+	const Vec3 mid = (pa + pb) * 0.5;
+	switch (op) {
+	case kAtBest:
+		if (!q.minimum(mid, pos))
+			pos = mid;
+		break;
+	case kAtMiddle:
+		pos = mid;
+		break;
+	case kAtA:
+	case kHalfBA:
+		pos = pa;
+		break;
+	default:
+		pos = pb;
+		break;
+	}
+	return std::max(0.0, q.eval(pos));
+}
+
+bool Reducer::plan(int32_t a, int32_t b, int op, const Vec3 &pos, Plan &pl) const
+{
+	return op < kHalfAB ? planFull(a, b, pos, pl)
+	                    : op == kHalfAB ? planHalf(a, b, pl) : planHalf(b, a, pl);
+}
+
+double Reducer::cost(int32_t a, int32_t b, double g, double q) const
+{
+	// the collapse's own gap plus the root mean square distance to the input planes it stands for
+	// (the quadric's trace is its total weight: its planes' normals are unit vectors)
+	const Quadric &A = Q_[size_t(a)], &B = Q_[size_t(b)];
+	const double w = A.q[0] + A.q[3] + A.q[5] + B.q[0] + B.q[3] + B.q[5];
+	return g + (w > 0 ? std::sqrt(std::max(0.0, q) / w) : 0.0);
+}
+
+double Reducer::gapOf(int32_t a, int32_t b, int op, const Vec3 &pos) const
+{
+	Plan pl;
+	if (!plan(a, b, op, pos, pl) || !provePatch(pl.pc, kFacing, slop(), pl.proof, false))
+		return HUGE_VAL;
+	double g = 0;
+	for (int i = 0; i < pl.pc.nNew; ++i)
+		g = std::max(g, pl.proof.gap[i]);
+	return g;
+}
+
+bool Reducer::bestOp(int32_t a, int32_t b, uint8_t tried, Entry &e) const
+{
+	bool boundaryEdge, delimiterEdge;
+	if (!edgeFlags(a, b, boundaryEdge, delimiterEdge))
+		return false;
+	// the operation: the least quadric error; its cost: with the gap it makes
+	for (;;) {
+		int best = -1;
+		double bestQ = 0;
+		Vec3 pos;
+		for (int op = 0; op < kOps; ++op) {
+			if ((tried >> op & 1) || !allowed(a, b, op, boundaryEdge, delimiterEdge))
+				continue;
+			Vec3 p;
+			const double q = opCost(a, b, op, p);
+			if (best < 0 || q < bestQ)
+				best = op, bestQ = q, pos = p;
+		}
+		if (best < 0)
+			return false;
+		const double g = gapOf(a, b, best, pos);
+		if (g < HUGE_VAL) {
+			e = {cost(a, b, g, bestQ), a, b, stamp_[size_t(a)], stamp_[size_t(b)], uint8_t(best), tried};
+			return true;
+		}
+		tried = uint8_t(tried | 1u << best);
+	}
+}
+
+void Reducer::pushEdges(int32_t v)
+{
+	scratch_.clear();
+	for (int32_t c = head_[size_t(v)]; c >= 0; c = next_[size_t(c)])
+		if (alive_[size_t(heFace(c))]) {
+			scratch_.push_back(T_[size_t(heNext(c))]);
+			scratch_.push_back(T_[size_t(hePrev(c))]);
+		}
+	std::sort(scratch_.begin(), scratch_.end());
+	scratch_.erase(std::unique(scratch_.begin(), scratch_.end()), scratch_.end());
+	for (int32_t w : scratch_) {
+		Entry e;
+		if (bestOp(std::min(v, w), std::max(v, w), 0, e))
+			heap_.push(e);
+	}
+}
+
+bool Reducer::planFull(int32_t u, int32_t v, const Vec3 &p, Plan &pl) const
+{
+	Ring ru, rv;
+	if (!ring(u, ru) || !ring(v, rv) || !ru.closed || !rv.closed)
+		return false;
+	const int iu = ru.find(v), iv = rv.find(u);
+	if (iu < 0 || iv < 0)
+		return false;
+	ru.rotate(iu);
+	rv.rotate(iv);
+	const int nu = ru.n, nv = rv.n;
+	if (ru.nb[nu - 1] != rv.nb[1] || rv.nb[nv - 1] != ru.nb[1])
+		return false;
+	const int nL = nu + nv - 4;
+	if (nL < 3 || nL + 3 > PatchCase::kMaxPts || nu + nv - 2 > PatchCase::kMaxTris)
+		return false;
+	PatchCase &c = pl.pc;
+	c = PatchCase();
+	int n = 0;
+	for (int i = 1; i < nu; ++i)
+		pl.point[n++] = ru.nb[i];
+	for (int j = 2; j <= nv - 2; ++j)
+		pl.point[n++] = rv.nb[j];
+	for (int i = 0; i < nL; ++i) // (the link condition: a neighbour of both ends is one of the
+		for (int j = i + 1; j < nL; ++j) // two across the edge)
+			if (pl.point[i] == pl.point[j])
+				return false;
+	const int8_t U = int8_t(nL), V = int8_t(nL + 1), Pn = int8_t(nL + 2);
+	pl.point[U] = u, pl.point[V] = v, pl.point[Pn] = -1;
+	c.nPts = nL + 3;
+	for (int i = 0; i < nL + 2; ++i)
+		c.pos[i] = P_[size_t(pl.point[i])];
+	c.pos[Pn] = p;
+	auto idxU = [&](int i) { return int8_t(i == 0 || i == nu ? V : i - 1); };
+	auto idxV = [&](int j) {
+		return int8_t(j == 0 ? U : j == 1 ? nu - 2 : j == nv - 1 ? 0 : nu - 1 + j - 2);
+	};
+	for (int i = 0; i < nu; ++i) {
+		c.oldTri[c.nOld][0] = U, c.oldTri[c.nOld][1] = idxU(i), c.oldTri[c.nOld][2] = idxU(i + 1);
+		pl.oldId[c.nOld++] = ru.face[i];
+	}
+	for (int j = 1; j <= nv - 2; ++j) {
+		c.oldTri[c.nOld][0] = V, c.oldTri[c.nOld][1] = idxV(j), c.oldTri[c.nOld][2] = idxV(j + 1);
+		pl.oldId[c.nOld++] = rv.face[j];
+	}
+	for (int i = 1; i <= nu - 2; ++i) {
+		c.newTri[c.nNew][0] = Pn, c.newTri[c.nNew][1] = idxU(i), c.newTri[c.nNew][2] = idxU(i + 1);
+		pl.newId[c.nNew++] = ru.face[i];
+	}
+	for (int j = 1; j <= nv - 2; ++j) {
+		c.newTri[c.nNew][0] = Pn, c.newTri[c.nNew][1] = idxV(j), c.newTri[c.nNew][2] = idxV(j + 1);
+		pl.newId[c.nNew++] = rv.face[j];
+	}
+	c.nInner = 2;
+	c.inner[0] = U, c.inner[1] = V;
+	c.newInner = Pn;
+	pl.kept = u, pl.gone = v, pl.full = true, pl.pos = p;
+	pl.nDead = 2;
+	pl.dead[0] = ru.face[0], pl.dead[1] = ru.face[nu - 1];
+	pl.keptCorner[0] = pl.keptCorner[1] = -1;
+	return true;
+}
+
+bool Reducer::planHalf(int32_t v, int32_t u, Plan &pl) const
+{
+	Ring rv;
+	if (!ring(v, rv))
+		return false;
+	PatchCase &c = pl.pc;
+	c = PatchCase();
+	const int n = rv.n;
+	auto cornerOf = [&](int32_t f, int32_t w) {
+		for (int32_t q = 3 * f; q < 3 * f + 3; ++q)
+			if (T_[size_t(q)] == w)
+				return q;
+		return int32_t(-1);
+	};
+	// u's neighbours (the link condition)
+	int32_t nbU[4 * kMaxRing];
+	int nNbU = 0;
+	for (int32_t q = head_[size_t(u)]; q >= 0; q = next_[size_t(q)])
+		if (alive_[size_t(heFace(q))]) {
+			if (nNbU + 2 > 4 * kMaxRing)
+				return false;
+			nbU[nNbU++] = T_[size_t(heNext(q))];
+			nbU[nNbU++] = T_[size_t(hePrev(q))];
+		}
+	auto adjacentToU = [&](int32_t w) { return std::find(nbU, nbU + nNbU, w) != nbU + nNbU; };
+	if (rv.closed) {
+		const int iu = rv.find(u);
+		if (iu < 0 || n < 3 || n + 1 > PatchCase::kMaxPts)
+			return false;
+		rv.rotate(iu);
+		for (int j = 2; j <= n - 2; ++j)
+			if (adjacentToU(rv.nb[j]))
+				return false;
+		if (n == 3) // (the new triangle would repeat one across the edge nb[1]-nb[2])
+			for (int32_t q = head_[size_t(u)]; q >= 0; q = next_[size_t(q)]) {
+				const int32_t g = heFace(q);
+				if (alive_[size_t(g)] && g != rv.face[0] && g != rv.face[2] &&
+				    cornerOf(g, rv.nb[1]) >= 0 && cornerOf(g, rv.nb[2]) >= 0)
+					return false;
+			}
+		const int8_t V = int8_t(n);
+		for (int j = 0; j < n; ++j)
+			pl.point[j] = rv.nb[j];
+		pl.point[V] = v;
+		c.nPts = n + 1;
+		for (int i = 0; i < c.nPts; ++i)
+			c.pos[i] = P_[size_t(pl.point[i])];
+		for (int j = 0; j < n; ++j) {
+			c.oldTri[j][0] = V, c.oldTri[j][1] = int8_t(j), c.oldTri[j][2] = int8_t((j + 1) % n);
+			pl.oldId[j] = rv.face[j];
+		}
+		c.nOld = n;
+		for (int j = 1; j <= n - 2; ++j) {
+			c.newTri[c.nNew][0] = 0, c.newTri[c.nNew][1] = int8_t(j), c.newTri[c.nNew][2] = int8_t(j + 1);
+			pl.newId[c.nNew++] = rv.face[j];
+		}
+		pl.nDead = 2;
+		pl.dead[0] = rv.face[0], pl.dead[1] = rv.face[n - 1];
+		pl.keptCorner[0] = cornerOf(rv.face[0], u);
+		pl.keptCorner[1] = cornerOf(rv.face[n - 1], u);
+	} else {
+		const bool first = rv.nb[0] == u;
+		if ((!first && rv.nb[n] != u) || n < 2 || n + 2 > PatchCase::kMaxPts)
+			return false;
+		const int32_t shared = first ? rv.nb[1] : rv.nb[n - 1];
+		for (int j = 0; j <= n; ++j)
+			if (rv.nb[j] != u && rv.nb[j] != shared && adjacentToU(rv.nb[j]))
+				return false;
+		const int8_t V = int8_t(n + 1);
+		for (int j = 0; j <= n; ++j)
+			pl.point[j] = rv.nb[j];
+		pl.point[V] = v;
+		c.nPts = n + 2;
+		for (int i = 0; i < c.nPts; ++i)
+			c.pos[i] = P_[size_t(pl.point[i])];
+		for (int j = 0; j < n; ++j) {
+			c.oldTri[j][0] = V, c.oldTri[j][1] = int8_t(j), c.oldTri[j][2] = int8_t(j + 1);
+			pl.oldId[j] = rv.face[j];
+		}
+		c.nOld = n;
+		const int8_t K = first ? 0 : int8_t(n);
+		for (int j = first ? 1 : 0; j <= (first ? n - 1 : n - 2); ++j) {
+			c.newTri[c.nNew][0] = K, c.newTri[c.nNew][1] = int8_t(j), c.newTri[c.nNew][2] = int8_t(j + 1);
+			pl.newId[c.nNew++] = rv.face[j];
+		}
+		c.pocket = true;
+		c.pocketA = 0, c.pocketB = int8_t(n);
+		pl.nDead = 1;
+		pl.dead[0] = first ? rv.face[0] : rv.face[n - 1];
+		pl.keptCorner[0] = pl.keptCorner[1] = cornerOf(pl.dead[0], u);
+	}
+	c.nInner = 1;
+	c.inner[0] = int8_t(c.nPts - 1);
+	c.newInner = -1;
+	pl.kept = u, pl.gone = v, pl.full = false, pl.pos = P_[size_t(u)];
+	return true;
+}
+
+bool Reducer::check(Plan &pl) const
+{
+	const PatchCase &c = pl.pc;
+	if (!provePatch(c, kFacing, slop(), pl.proof))
+		return false;
+	for (int i = 0; i < c.nNew; ++i) {
+		const Vec3 &a = c.pos[c.newTri[i][0]], &b = c.pos[c.newTri[i][1]], &d = c.pos[c.newTri[i][2]];
+		Vec3 nt = (b - a) ^ (d - a);
+		if (!(nt.Norm() > 1e-30 * t_.diagonal * t_.diagonal))
+			return false;
+		nt.Normalize();
+		double e = 0;
+		for (int j = 0; j < c.nOld; ++j) {
+			if (!(pl.proof.under[i] >> j & 1))
+				continue;
+			const int32_t s = pl.oldId[j];
+			e = std::max(e, e_[size_t(s)]);
+			if (lim_.normalDeg < 180) {
+				const NormalCone &k = cone_[size_t(s)];
+				if (angleDeg(nt, k.axis) + k.half > lim_.normalDeg)
+					return false;
+			}
+			if (s == pl.newId[i]) { // (the triangle it replaces: not turned over)
+				Vec3 ns = normal(s);
+				if (nt.dot(ns) < 0)
+					return false;
+			}
+		}
+		pl.bound[i] = e + pl.proof.gap[i];
+		if (pl.bound[i] > lim_.bound)
+			return false;
+	}
+	return true;
+}
+
+bool Reducer::facesInput(const Plan &pl) const
+{
+	// not on the other side of a thin part: the input surface nearest each new triangle faces it
+	const PatchCase &c = pl.pc;
+	for (int i = 0; i < c.nNew; ++i) {
+		const Vec3 &a = c.pos[c.newTri[i][0]], &b = c.pos[c.newTri[i][1]], &d = c.pos[c.newTri[i][2]];
+		Vec3 nt = (b - a) ^ (d - a);
+		nt.Normalize();
+		if (!nearestInputFacing(t_, (a + b + d) / 3.0, nt,
+		                        pl.bound[i] * (1 + 1e-9) + 1e-12 * t_.diagonal, kFacingCells))
+			return false;
+	}
+	return true;
+}
+
+void Reducer::prune(int32_t v)
+{
+	scratch_.clear();
+	for (int32_t c = head_[size_t(v)]; c >= 0; c = next_[size_t(c)])
+		if (alive_[size_t(heFace(c))])
+			scratch_.push_back(c);
+	head_[size_t(v)] = -1;
+	for (auto it = scratch_.rbegin(); it != scratch_.rend(); ++it) {
+		next_[size_t(*it)] = head_[size_t(v)];
+		head_[size_t(v)] = *it;
+	}
+}
+
+void Reducer::apply(const Plan &pl)
+{
+	const PatchCase &c = pl.pc;
+	const int32_t u = pl.kept, v = pl.gone;
+	// the new triangles' bounds, cones and texture errors, from the old ones under them
+	NormalCone cones[PatchCase::kMaxTris];
+	float uv[PatchCase::kMaxTris];
+	for (int i = 0; i < c.nNew; ++i) {
+		bool first = true;
+		uv[i] = 0;
+		for (int j = 0; j < c.nOld; ++j)
+			if (pl.proof.under[i] >> j & 1) {
+				const int32_t s = pl.oldId[j];
+				cones[i] = first ? cone_[size_t(s)] : mergeNormalCones(cones[i], cone_[size_t(s)]);
+				uv[i] = std::max(uv[i], uvErr_[size_t(s)]);
+				first = false;
+			}
+	}
+	for (int d = 0; d < pl.nDead; ++d) { // (each dead triangle goes into a new one over it)
+		int j = 0;
+		while (pl.oldId[j] != pl.dead[d])
+			++j;
+		int i = 0;
+		while (i + 1 < c.nNew && !(pl.proof.under[i] >> j & 1))
+			++i;
+		fwd_[size_t(pl.dead[d])] = pl.newId[i];
+		alive_[size_t(pl.dead[d])] = 0;
+		--live_;
+	}
+	// the kept vertex
+	Q_[size_t(u)] += Q_[size_t(v)];
+	int32_t keptSource[2] = {-1, -1};
+	if (pl.full) {
+		P_[size_t(u)] = pl.pos;
+		// (its attributes: those of the end whose input vertex is nearer)
+		const Vec3 iu(&mesh_.positions[3 * size_t(srcV_[size_t(u)])]);
+		const Vec3 iv(&mesh_.positions[3 * size_t(srcV_[size_t(v)])]);
+		const int32_t from = (iv - pl.pos).SquaredNorm() < (iu - pl.pos).SquaredNorm() ? v : u;
+		srcV_[size_t(u)] = srcV_[size_t(from)];
+		if (!srcC_.empty())
+			for (int32_t q = 3 * pl.dead[0]; q < 3 * pl.dead[0] + 3; ++q)
+				if (T_[size_t(q)] == from)
+					keptSource[0] = keptSource[1] = srcC_[size_t(q)];
+	} else if (!srcC_.empty()) {
+		keptSource[0] = srcC_[size_t(pl.keptCorner[0])];
+		keptSource[1] = srcC_[size_t(pl.keptCorner[1])];
+	}
+	// the new triangles: their corners at u or v become u's (on a seam, each side's)
+	int side = 0;
+	for (int i = 0; i < c.nNew; ++i) {
+		const int32_t f = pl.newId[i];
+		for (int32_t q = 3 * f; q < 3 * f + 3; ++q) {
+			const int32_t w = T_[size_t(q)];
+			if (w != u && w != v)
+				continue;
+			if (!pl.full && w == v && dlm_[size_t(q)])
+				side = 1; // (the ring crossed the seam: the other side's corner of u)
+			T_[size_t(q)] = u;
+			if (!srcC_.empty() && (pl.full || w == v))
+				srcC_[size_t(q)] = keptSource[side];
+		}
+		e_[size_t(f)] = pl.bound[i];
+		cone_[size_t(f)] = cones[i];
+		uvErr_[size_t(f)] = uv[i];
+	}
+	// v's corners join u's list
+	if (head_[size_t(v)] >= 0) {
+		int32_t tail = head_[size_t(v)];
+		while (next_[size_t(tail)] >= 0)
+			tail = next_[size_t(tail)];
+		next_[size_t(tail)] = head_[size_t(u)];
+		head_[size_t(u)] = head_[size_t(v)];
+		head_[size_t(v)] = -1;
+	}
+	kind_[size_t(v)] = kGone;
+	prune(u);
+	for (int d = 0; d < pl.nDead; ++d)
+		for (int32_t q = 3 * pl.dead[d]; q < 3 * pl.dead[d] + 3; ++q)
+			if (T_[size_t(q)] != u && T_[size_t(q)] != v)
+				prune(T_[size_t(q)]);
+	++stamp_[size_t(u)];
+	pushEdges(u);
+	for (int i = 0; i < c.nPts; ++i) { // (collapses refused near here may be legal now)
+		const int32_t w = pl.point[i];
+		if (w >= 0 && w != u && w != v && blocked_[size_t(w)]) {
+			blocked_[size_t(w)] = 0;
+			pushEdges(w);
+		}
+	}
+}
+
+bool Reducer::run(CollapseSource &out, ReduceReport &report)
+{
+	setUp();
+	const size_t nV = P_.size();
+	const bool budget = lim_.faces > 0;
+	auto more = [&] { return !budget || live_ > lim_.faces; };
+	for (int round = 0; round < 8 && more(); ++round) {
+		// every edge's best operation (each vertex's edges to higher vertices, in parallel)
+		std::vector<std::vector<Entry>> parts(std::max<size_t>(threads_, 1));
+		const size_t chunk = 4096, nChunks = (nV + chunk - 1) / chunk;
+		std::vector<std::vector<Entry>> byChunk(nChunks);
+		parallelRanges(nChunks, threads_, [&](size_t cb, size_t ce, size_t) {
+			std::vector<int32_t> nb;
+			for (size_t k = cb; k < ce; ++k)
+				for (size_t v = k * chunk; v < std::min(nV, (k + 1) * chunk); ++v) {
+					nb.clear();
+					for (int32_t c = head_[v]; c >= 0; c = next_[size_t(c)])
+						if (alive_[size_t(heFace(c))]) {
+							nb.push_back(T_[size_t(heNext(c))]);
+							nb.push_back(T_[size_t(hePrev(c))]);
+						}
+					std::sort(nb.begin(), nb.end());
+					nb.erase(std::unique(nb.begin(), nb.end()), nb.end());
+					for (int32_t w : nb) {
+						Entry e;
+						if (w > int32_t(v) && bestOp(int32_t(v), w, 0, e))
+							byChunk[k].push_back(e);
+					}
+				}
+		});
+		std::vector<Entry> all;
+		for (auto &b : byChunk)
+			all.insert(all.end(), b.begin(), b.end());
+		byChunk.clear();
+		heap_ = std::priority_queue<Entry>(std::less<Entry>(), std::move(all));
+		std::fill(blocked_.begin(), blocked_.end(), 0);
+		const size_t before = collapses_;
+		Plan pl;
+		while (more() && !heap_.empty()) {
+			Entry top = heap_.top();
+			heap_.pop();
+			if (kind_[size_t(top.a)] == kGone || kind_[size_t(top.b)] == kGone ||
+			    stamp_[size_t(top.a)] != top.sa || stamp_[size_t(top.b)] != top.sb)
+				continue;
+			Vec3 pos;
+			opCost(top.a, top.b, top.op, pos);
+			if (!plan(top.a, top.b, top.op, pos, pl) || !check(pl)) {
+				Entry e;
+				if (bestOp(top.a, top.b, uint8_t(top.tried | 1u << top.op), e))
+					heap_.push(e);
+				else
+					blocked_[size_t(top.a)] = blocked_[size_t(top.b)] = 1;
+				continue;
+			}
+			// (the neighbourhood may have changed since the cost was taken: a costlier collapse
+			// goes back in line)
+			double g = 0;
+			for (int i = 0; i < pl.pc.nNew; ++i)
+				g = std::max(g, pl.proof.gap[i]);
+			const double now = cost(top.a, top.b, g, opCost(top.a, top.b, top.op, pos));
+			if (now > top.cost * (1 + 1e-9)) {
+				top.cost = now;
+				heap_.push(top);
+				continue;
+			}
+			if (!facesInput(pl)) {
+				blocked_[size_t(top.a)] = blocked_[size_t(top.b)] = 1;
+				continue;
+			}
+			apply(pl);
+			++collapses_;
+		}
+		if (collapses_ == before)
+			break;
+	}
+	write(out, report);
+	return !more() || !budget;
+}
+
+void Reducer::write(CollapseSource &out, ReduceReport &report)
+{
+	const LevelMesh &sm = src_.mesh;
+	const size_t nV = P_.size(), nT = T_.size() / 3;
+	out.clear();
+	LevelMesh &o = out.mesh;
+	// superfaces: connected triangles whose normals fall in one cell of the level, across edges
+	// that are no delimiter
+	std::vector<int32_t> uf(nT);
+	std::vector<CellKey> cell(nT, kInvalidCell);
+	for (size_t f = 0; f < nT; ++f) {
+		uf[f] = int32_t(f);
+		if (alive_[f])
+			cell[f] = cellOfNormal(normal(int32_t(f)), lim_.level);
+	}
+	auto find = [&](int32_t x) {
+		while (uf[size_t(x)] != x)
+			x = uf[size_t(x)] = uf[size_t(uf[size_t(x)])];
+		return x;
+	};
+	std::vector<int32_t> twin(3 * nT, -1);
+	for (size_t c = 0; c < 3 * nT; ++c) {
+		if (!alive_[c / 3])
+			continue;
+		twin[c] = twinOf(T_, head_, next_, alive_, int32_t(c));
+		const int32_t d = twin[c];
+		if (d < 0 || dlm_[c] || cell[c / 3] == kInvalidCell || cell[c / 3] != cell[size_t(heFace(d))])
+			continue;
+		const int32_t a = find(int32_t(c / 3)), b = find(heFace(d));
+		if (a != b)
+			uf[size_t(std::max(a, b))] = std::min(a, b);
+	}
+	std::vector<int32_t> remap(nV, -1), triId(nT, -1), sfId(nT, -1);
+	for (size_t f = 0; f < nT; ++f)
+		if (alive_[f])
+			for (int k = 0; k < 3; ++k)
+				remap[size_t(T_[3 * f + size_t(k)])] = 0;
+	size_t usedV = 0;
+	for (size_t v = 0; v < nV; ++v)
+		usedV += remap[v] >= 0;
+	o.sourceVertex.reserve(usedV);
+	o.positions.reserve(3 * usedV);
+	out.quadric.reserve(usedV);
+	int32_t nextV = 0;
+	size_t placed = 0, locked = 0;
+	double maxMove = 0;
+	for (size_t v = 0; v < nV; ++v) {
+		if (remap[v] < 0)
+			continue;
+		remap[v] = nextV++;
+		o.sourceVertex.push_back(srcV_[v]);
+		for (int k = 0; k < 3; ++k)
+			o.positions.push_back(P_[v][k]);
+		out.quadric.push_back(Q_[v]);
+		locked += kind_[v] == kFixed;
+		const Vec3 in(&mesh_.positions[3 * size_t(srcV_[v])]);
+		if (!(P_[v] == in)) {
+			++placed;
+			maxMove = std::max(maxMove, (P_[v] - in).Norm());
+		}
+	}
+	const bool sources = !srcC_.empty();
+	int32_t nextSf = 0, nextT = 0;
+	double maxDev = 0, devArea = 0, area = 0, maxBound = 0;
+	float maxUv = 0;
+	o.triangles.reserve(3 * live_);
+	o.superface.reserve(live_);
+	o.borderEdges.reserve(live_);
+	out.bound.reserve(live_);
+	out.cone.reserve(live_);
+	out.uvError.reserve(live_);
+	for (size_t f = 0; f < nT; ++f) {
+		if (!alive_[f])
+			continue;
+		triId[f] = nextT++;
+		const int32_t r = find(int32_t(f));
+		if (sfId[size_t(r)] < 0)
+			sfId[size_t(r)] = nextSf++;
+		o.superface.push_back(sfId[size_t(r)]);
+		uint8_t border = 0;
+		for (int k = 0; k < 3; ++k) {
+			const size_t c = 3 * f + size_t(k);
+			o.triangles.push_back(remap[size_t(T_[c])]);
+			if (twin[c] < 0 || find(heFace(twin[c])) != r)
+				border |= uint8_t(1u << k);
+			if (sources)
+				o.sourceCorner.push_back(srcC_[c]);
+		}
+		o.borderEdges.push_back(border);
+		if (sources && sm.sourceFace.size() == nT)
+			o.sourceFace.push_back(sm.sourceFace[f]);
+		Vec3 n = normal(int32_t(f));
+		const double a = 0.5 * n.Norm();
+		area += a;
+		if (a > 0) {
+			n.Normalize();
+			const double dev = angleDeg(n, cone_[f].axis);
+			maxDev = std::max(maxDev, std::min(180.0, dev + cone_[f].half));
+			devArea += a * dev;
+		}
+		maxBound = std::max(maxBound, e_[f]);
+		maxUv = std::max(maxUv, uvErr_[f]);
+		out.bound.push_back(e_[f]);
+		out.cone.push_back(cone_[f]);
+		out.uvError.push_back(uvErr_[f]);
+	}
+	o.superfaceBound.assign(size_t(nextSf), 0.0f);
+	for (size_t f = 0; f < nT; ++f)
+		if (alive_[f]) {
+			float &b = o.superfaceBound[size_t(sfId[size_t(find(int32_t(f)))])];
+			b = std::max(b, std::nextafter(float(e_[f]), 3e38f));
+		}
+	// each input face: the triangle standing for it (its source triangle, or where that went)
+	auto alive = [&](int32_t f) {
+		while (f >= 0 && !alive_[size_t(f)])
+			f = fwd_[size_t(f)];
+		return f;
+	};
+	std::vector<int32_t> firstOf; // (a source of superfaces only: each one's first triangle)
+	if (src_.inputTri.empty()) {
+		for (size_t f = 0; f < sm.superface.size(); ++f) {
+			const size_t s = size_t(sm.superface[f]);
+			if (s >= firstOf.size())
+				firstOf.resize(s + 1, -1);
+			if (firstOf[s] < 0)
+				firstOf[s] = int32_t(f);
+		}
+	}
+	const size_t nIn = sm.inputSuperface.size();
+	o.inputSuperface.assign(nIn, -1);
+	out.inputTri.assign(nIn, -1);
+	for (size_t i = 0; i < nIn; ++i) {
+		int32_t tri = -1;
+		if (!src_.inputTri.empty()) {
+			tri = src_.inputTri[i];
+		} else {
+			const int32_t s = sm.inputSuperface[i];
+			tri = s >= 0 && size_t(s) < firstOf.size() ? firstOf[size_t(s)] : -1;
+		}
+		tri = tri >= 0 ? alive(tri) : -1;
+		if (tri < 0)
+			continue;
+		out.inputTri[i] = triId[size_t(tri)];
+		o.inputSuperface[i] = sfId[size_t(find(tri))];
+	}
+	LevelStats &st = o.stats;
+	st.faces = o.triangles.size() / 3;
+	st.vertices = size_t(nextV);
+	st.superfaces = size_t(nextSf);
+	st.maxNormalDevDeg = maxDev;
+	st.meanNormalDevDeg = area > 0 ? devArea / area : 0;
+	st.unmeasuredFaces = 0;
+	st.distanceBound = maxBound;
+	st.placedVertices = placed;
+	st.maxPlacement = maxMove;
+	st.collapses = collapses_;
+	st.maxTexError = t_.UV ? double(maxUv) : -1;
+	report.collapses = collapses_;
+	report.lockedVertices = locked;
+	report.maxTexError = st.maxTexError;
+	report.minimumFaces = lim_.faces > 0 && st.faces > lim_.faces ? st.faces : 0;
+}
+
+} // namespace
+
+void inputSource(const Topology &t, const MeshView &mesh, CollapseSource &out)
+{
+	out.clear();
+	LevelMesh &o = out.mesh;
+	o.positions.assign(t.P, t.P + 3 * t.nV);
+	o.sourceVertex.resize(t.nV);
+	for (size_t v = 0; v < t.nV; ++v)
+		o.sourceVertex[v] = int32_t(v);
+	const bool sources = t.wantSources || mesh.faceKey || mesh.cornerKey || t.UV;
+	out.inputTri.assign(t.nF, -1);
+	size_t n = 0;
+	for (size_t f = 0; f < t.nF; ++f)
+		n += !t.faceDropped[f];
+	o.triangles.reserve(3 * n);
+	o.superface.reserve(n);
+	o.borderEdges.assign(n, 7);
+	out.bound.assign(n, 0.0);
+	out.cone.reserve(n);
+	if (sources) {
+		o.sourceCorner.reserve(3 * n);
+		o.sourceFace.reserve(n);
+	}
+	int32_t next = 0;
+	for (size_t f = 0; f < t.nF; ++f) {
+		if (t.faceDropped[f])
+			continue;
+		out.inputTri[f] = next;
+		o.superface.push_back(next++);
+		for (size_t k = 0; k < 3; ++k) {
+			o.triangles.push_back(t.T[3 * f + k]);
+			if (sources)
+				o.sourceCorner.push_back(int32_t(3 * f + k));
+		}
+		if (sources)
+			o.sourceFace.push_back(int32_t(f));
+		out.cone.push_back({t.faceNormal[f], 0.0});
+	}
+	o.inputSuperface = out.inputTri;
+	out.uvError.assign(n, 0.0f);
+	o.stats.faces = n;
+	o.stats.superfaces = n;
+	o.stats.distanceBound = 0;
+}
+
+bool reduceLevel(const Topology &t, const MeshView &mesh, const CollapseSource &src,
+                 const ReduceLimits &lim, size_t threads, CollapseSource &out,
+                 ReduceReport &report)
+{
+	Reducer r(t, mesh, src, lim, threads);
+	return r.run(out, report);
+}
+
+} // namespace detail
+} // namespace gausslod

@@ -1,0 +1,56 @@
+// Beyond the paper (docs/DESIGN.md, 51): a level completed by edge collapses, for face budgets,
+// error targets and the default chain's steps, on any mesh.
+//
+// Each collapse replaces a patch of triangles (the triangles around one vertex, or around both
+// ends of an edge) by a fan over the same outline, from the kept vertex: at the position where
+// the quadric of the input planes it took over is least (a full collapse), or at the kept
+// vertex's own position (a half-edge collapse: along a mesh boundary, a seam, into a vertex that
+// must stay, or everywhere on an input with texture coordinates). Where the patch and the fan are
+// both one-to-one over the plane orthogonal to the patch's normal, they are two height fields over
+// one polygon, and their vertical gap, linear on each cell of the overlay of the two
+// triangulations, is largest at a vertex of the overlay: that gap, added to the bounds of the
+// patch triangles under each fan triangle, is the fan triangle's proven distance bound (both
+// ways). The order is the quadric's (Garland and Heckbert): least error first.
+#pragma once
+
+#include "level_collapse.h"
+
+namespace gausslod {
+namespace detail {
+
+/// What a reduced level may not exceed, and how it is made.
+struct ReduceLimits {
+	size_t faces = 0;         ///< stop at or below this many triangles (0: no budget)
+	double bound = HUGE_VAL;  ///< every triangle's distance bound at most this (mesh units)
+	double normalDeg = 180;   ///< every triangle within this of the input normals it stands
+	                          ///< for (>= 180: only the facing tests)
+	double texError = 0;      ///< with texture coordinates: the largest UV error a collapse may
+	                          ///< add at a removed vertex, UV units (0 = no limit)
+	bool placement = true;    ///< full collapses placed by the quadric (no texture coordinates)
+	int level = 0;            ///< Gauss-sphere level: the output's superfaces are its cells'
+};
+
+/// What stopped a reduction short of its budget.
+struct ReduceReport {
+	size_t collapses = 0;
+	size_t minimumFaces = 0; ///< when the budget was not reached: the faces left (the least the
+	                         ///< kept vertices and legal collapses allow)
+	size_t lockedVertices = 0; ///< vertices no collapse may remove (delimiter junctions, locked
+	                           ///< input vertices, where boundary loops touch)
+	double maxTexError = -1; ///< with texture coordinates: the largest UV error bound of a triangle
+};
+
+/// The input (the mesh the levels are built on) as a collapse source: every valid triangle its
+/// own superface, bound 0, its own normal as its cone.
+void inputSource(const Topology &t, const MeshView &mesh, CollapseSource &out);
+
+/// Collapses `src` until at most `lim.faces` triangles remain (or, with no face budget, until no
+/// collapse keeps every bound within `lim.bound`), into `out` (the level with its per-triangle
+/// bounds, cones and per-vertex quadrics, to continue from). True if the budget was reached (always
+/// true with no budget); false with `out` still the best level reached (report.minimumFaces).
+bool reduceLevel(const Topology &t, const MeshView &mesh, const CollapseSource &src,
+                 const ReduceLimits &lim, size_t threads, CollapseSource &out,
+                 ReduceReport &report);
+
+} // namespace detail
+} // namespace gausslod
