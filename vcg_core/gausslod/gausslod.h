@@ -148,6 +148,13 @@ struct Params {
 	/// moved along their normal). Not for inputs with texture coordinates or kept faces. Off
 	/// only for comparison (hence no filter or tool parameter).
 	bool collapseLevels = true;
+	/// Beyond the paper (docs/DESIGN.md, 51; angle levels): every level a real step. A level
+	/// with more faces than 0.8 times the level before it (the finest: than the input), or
+	/// than its share of the input (the coarsest 15 %, the shares geometric between them), is
+	/// continued by edge collapses with quadric placement down to that count, unless its
+	/// distance bound is 0 (an exact level); its normal deviation is then measured, not bound
+	/// by its cells. false = the paper's levels.
+	bool completeChain = true;
 	/// Input repair, as MeshLab does to STL files on import: vertices at exactly the same position
 	/// become one (the first in index order), so that a triangle soup (STL, most CAD and BIM
 	/// exports) is simplified like the welded mesh. Faces then refer to that first vertex; the
@@ -301,6 +308,10 @@ struct LevelStats {
 	/// cones of the input normals it stands for; the finer level's own figure for the others),
 	/// meanNormalDevDeg an estimate (new triangles against the middle of those cones).
 	size_t collapses = 0;
+	/// DESIGN 51: made by collapses with quadric placement toward a face budget, an error target
+	/// or the angle chain's step (not the superface level's own count); maxNormalDevDeg is then
+	/// a bound from the cones of the input normals each triangle stands for.
+	bool reduced = false;
 	bool reusedFiner = false;    ///< the merged partition gave more faces than the next finer
 	                             ///< level (or, in angle mode, a larger distance bound with not
 	                             ///< 1 % fewer faces: DESIGN 29): this level is that level's mesh

@@ -2,7 +2,6 @@
 // then level by level from fine to coarse: geometry of the level, then the partition of the next
 // coarser level by merging sibling cells.
 #include "engine.h"
-#include "level_collapse.h"
 #include "level_passes.h"
 #include "reduce.h"
 
@@ -252,6 +251,31 @@ void keepFinerLevel(const MeshView &mesh, int level, std::vector<detail::Partiti
 	lm.stats.boundDeg = levelBoundDeg(level);
 	lm.stats.fallbacks = 0;
 	lm.stats.reusedFiner = true;
+}
+
+// DESIGN 51: a level of the angle chain (Params::completeChain) has at most this share of the
+// faces of the level delivered before it, and the coarsest level at most kCoarsestShare of the
+// input's (the levels between, geometric shares), unless its distance bound is below kExact of
+// the diagonal (an exact level, as planar CAD's, keeps its count).
+// A step may cost at most kStepError times the distance bound of the level before it (or the
+// level's distance tolerance, if larger): a shape that a step would break (a cube whose corners
+// would go) keeps its count.
+constexpr double kStepShare = 0.8, kCoarsestShare = 0.15, kExact = 1e-5, kStepError = 32;
+
+// The distance tolerance a level's step is measured against (fraction of the diagonal): its own,
+// or the default's where the tolerance is off.
+double stepTolerance(const Params &p, int level)
+{
+	const double base = p.maxDistance > 0 ? p.maxDistance : Params().maxDistance;
+	const double growth = p.maxDistance > 0 ? p.distanceGrowth : Params().distanceGrowth;
+	return base * std::pow(growth, p.maxLevel - 1 - level);
+}
+
+size_t stepFaces(const Params &p, int level, size_t finerFaces, size_t inputFaces)
+{
+	const double share = std::pow(kCoarsestShare, double(p.maxLevel - level) / p.maxLevel);
+	return std::min(size_t(std::floor(kStepShare * double(finerFaces))),
+	                size_t(std::floor(share * double(inputFaces))));
 }
 
 // The distance tolerance of `level`, fraction of the diagonal (0 = none), as levelLimits reads it.
@@ -516,11 +540,11 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 		// DESIGN 50: the finer level as delivered, for the next level's collapses
 		const bool collapsing = byAngle && params.collapseLevels && params.maxDistance > 0 &&
 		                        !topo.UV && !mesh.keepFace;
-		CollapseSource delivered, collapsed;
-		bool deliveredIsFiner = false; // (the finer level as built: `finer` is its mesh)
-		// DESIGN 51: levels by target are also made by collapses of the level delivered before
-		// them (the finest, of the input): the one that reaches the target with less is taken
+
+		// DESIGN 50, 51: the level delivered before this one, as collapses start from it (made
+		// from `finer` when that is the level, or a level collapses made)
 		CollapseSource chain;
+		bool chainIsFiner = false, chainCollapsed = false;
 		for (int level = finest; level >= 0; --level) {
 			const auto tl = std::chrono::steady_clock::now();
 			if (!report(0.05 + 0.95 * double(finest - level) / params.maxLevel, "building level"))
@@ -585,87 +609,111 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 				               finer, finerPlaced, lm);
 				nextCarry = ExactCarry(); // (its superfaces are not this level's)
 			}
-			// DESIGN 50: the level from the finer level as delivered, by collapses, if they get to
-			// this level's face count within its distance bound
+			// DESIGN 50 and 51: the level may also come from the level delivered before it (the
+			// chain; before the finest level, the input) by edge collapses
+			const auto tc = std::chrono::steady_clock::now();
+			// (a level that is its finer level's mesh took `finer`: no superface build)
+			const bool superfaceBuilt = !(sameAsFiner || lm.stats.reusedFiner);
+			CollapseSource collapsed;
 			bool takeCollapsed = false;
-			double secondsCollapse = 0;
-			// (the finer level as delivered was made by collapses, or is such a level reused)
-			const bool deliveredCollapsed = collapsing && !deliveredIsFiner && !delivered.empty();
-			// (a level that is its finer level as built took that mesh: nothing to collapse)
-			if (collapsing && level < finest &&
-			    (deliveredIsFiner ? !(sameAsFiner || lm.stats.reusedFiner) : !delivered.empty())) {
-				const auto tc = std::chrono::steady_clock::now();
-				// (the finer level's mesh has served here: the collapses start from it, taken
-				// whole; its partition stays, coarser fallbacks split into it)
-				if (deliveredIsFiner) {
+			auto needChain = [&] { // (makes `chain` the level delivered before this one)
+				if (level == finest) {
+					if (chain.empty())
+						inputSource(topo, mesh, chain);
+				} else if (chainIsFiner && !superfaceBuilt) { // (this level took that mesh)
+					collapseSourceOf(topo, lm, chain);
+					chainIsFiner = false;
+				} else if (chainIsFiner) { // (its mesh has served: taken whole, partition kept)
 					LevelMesh source;
-					takeFinerMesh(mesh, parts[size_t(level) + 1].label, finer, finerPlaced, source);
-					collapseSourceOf(topo, std::move(source), delivered);
+					takeFinerMesh(mesh, (byFaces ? levelPart : parts[size_t(level) + 1]).label,
+					              finer, finerPlaced, source);
+					collapseSourceOf(topo, std::move(source), chain);
+					chainIsFiner = false;
 				}
-				finer = LevelMesh();
-				// (a collapsed finer level is this level when the superface level is no lighter,
-				// or, DESIGN 29 against it and not only against the finer superface level checked
-				// above, farther from the input and not kMinLevelSaving lighter)
-				const double deliveredFaces = double(delivered.mesh.triangles.size() / 3);
-				bool reuse = deliveredCollapsed && deliveredFaces <= double(lm.stats.faces);
-				if (!reuse && lm.stats.distanceBound > 0) {
-					CollapseLimits lim;
-					lim.faces = lm.stats.faces;
-					lim.bound = lm.stats.distanceBound;
-					lim.normalDeg = params.normalLimit > 0
-					                    ? std::min(90.0, params.normalLimit * levelBoundDeg(level))
-					                    : 90.0;
-					lim.featureDeg = params.featureAngle;
-					lim.placement = params.placeVertices ? 0.5 * tolerance * topo.diagonal : 0.0;
-					takeCollapsed = collapseLevel(topo, mesh, delivered, lim, threads, collapsed) &&
-					                farthestInputVertex(topo, collapsed.mesh,
-					                                    collapsed.mesh.stats.distanceBound, threads) <=
-					                    farthestInputVertex(topo, lm, lm.stats.distanceBound, threads);
-				}
-				const LevelStats &outStats = takeCollapsed ? collapsed.mesh.stats : lm.stats;
-				reuse = reuse || (deliveredCollapsed &&
-				                  outStats.distanceBound > delivered.mesh.stats.distanceBound &&
-				                  double(outStats.faces) > (1 - kMinLevelSaving) * deliveredFaces);
-				if (reuse) { // (taken whole: it is delivered again below)
-					collapsed = std::move(delivered);
+			};
+			const size_t chainFaces = level == finest ? full.faceCount - res.input.facesSkipped()
+			                          : chainIsFiner  ? finer.stats.faces
+			                                          : chain.mesh.triangles.size() / 3;
+			const double chainBound = level == finest ? 0.0
+			                          : chainIsFiner  ? finer.stats.distanceBound
+			                                          : chain.mesh.stats.distanceBound;
+			// DESIGN 50 (angle levels): the chain collapsed to this level's face count within its
+			// distance bound and normal limit, vertices kept where they are; taken where no input
+			// vertex ends farther from it
+			if (collapsing && level < finest && chainFaces > lm.stats.faces &&
+			    chainFaces <= kCollapseMaxFaces && superfaceBuilt && lm.stats.distanceBound > 0) {
+				needChain();
+				ReduceLimits rl;
+				rl.level = level;
+				rl.faces = lm.stats.faces;
+				rl.bound = lm.stats.distanceBound;
+				rl.normalDeg = params.normalLimit > 0
+				                   ? std::min(90.0, params.normalLimit * levelBoundDeg(level))
+				                   : 90.0;
+				rl.placement = false;
+				ReduceReport rr;
+				takeCollapsed = reduceLevel(topo, mesh, chain, rl, threads, collapsed, rr) &&
+				                farthestInputVertex(topo, collapsed.mesh,
+				                                    collapsed.mesh.stats.distanceBound, threads) <=
+				                    farthestInputVertex(topo, lm, lm.stats.distanceBound, threads);
+			}
+			// DESIGN 29 against a collapsed finer level too: a level no lighter, or farther from
+			// the input and not kMinLevelSaving lighter, is that level
+			if (byAngle && level < finest && chainCollapsed) {
+				const LevelStats &o = takeCollapsed ? collapsed.mesh.stats : lm.stats;
+				if (double(o.faces) >= double(chainFaces) ||
+				    (o.distanceBound > chain.mesh.stats.distanceBound &&
+				     double(o.faces) > (1 - kMinLevelSaving) * double(chainFaces))) {
+					collapsed = chain; // (a copy: the chain stays what the next level starts from)
 					collapsed.mesh.stats.collapses = 0;
 					takeCollapsed = true;
 				}
-				secondsCollapse = since(tc);
 			}
+			// DESIGN 51: levels by target, and the angle chain's real steps, by collapses with
+			// quadric placement where the superfaces do not get there
+			ReduceLimits rl;
+			rl.level = level;
+			rl.placement = topo.UV == nullptr;
+			bool reduce = false;
 			if (!byAngle) {
-				const auto tr = std::chrono::steady_clock::now();
-				if (level == finest)
-					inputSource(topo, mesh, chain);
-				ReduceLimits rl;
-				rl.level = level;
-				rl.placement = topo.UV == nullptr;
+				reduce = true;
 				rl.faces = byFaces ? target : 0;
 				rl.bound = byFaces ? HUGE_VAL : params.levelDistances[size_t(level)] * topo.diagonal;
+			} else if (params.completeChain) {
+				const LevelStats &o = takeCollapsed ? collapsed.mesh.stats : lm.stats;
+				const size_t cap = stepFaces(params, level, chainFaces, full.faceCount);
+				reduce = o.faces > cap && o.distanceBound > kExact * topo.diagonal;
+				rl.faces = cap;
+				rl.bound = kStepError * std::max(chainBound, stepTolerance(params, level) *
+				                                                 topo.diagonal);
+			}
+			if (reduce) {
+				needChain();
 				ReduceReport rr;
 				CollapseSource reduced;
 				const bool got = reduceLevel(topo, mesh, chain, rl, threads, reduced, rr);
 				const LevelStats &rs = reduced.mesh.stats;
+				const LevelStats &o = takeCollapsed ? collapsed.mesh.stats : lm.stats;
 				bool take;
 				if (byFaces)
-					take = lm.stats.faces > target
-					           ? rs.faces < lm.stats.faces
+					take = o.faces > target
+					           ? rs.faces < o.faces
 					           : got && farthestInputVertex(topo, reduced.mesh, rs.distanceBound,
 					                                        threads) <
-					                        farthestInputVertex(topo, lm, lm.stats.distanceBound,
-					                                            threads);
+					                        farthestInputVertex(topo, takeCollapsed ? collapsed.mesh : lm,
+					                                            o.distanceBound, threads);
+				else if (byAngle)
+					take = rs.faces < o.faces;
 				else
-					take = rs.faces < lm.stats.faces ||
-					       (rs.faces == lm.stats.faces && rs.distanceBound < lm.stats.distanceBound);
+					take = rs.faces < o.faces ||
+					       (rs.faces == o.faces && rs.distanceBound < o.distanceBound);
 				if (take) {
 					collapsed = std::move(reduced);
+					collapsed.mesh.stats.reduced = true;
 					takeCollapsed = true;
-					chain = collapsed; // (the next level starts from this one)
-				} else {
-					collapseSourceOf(topo, lm, chain);
 				}
-				secondsCollapse += since(tr);
 			}
+			const double secondsCollapse = since(tc);
 			std::swap(carry, nextCarry);
 			if (byFaces) {
 				levelPart = std::move(parts[size_t(level)]);
@@ -674,7 +722,6 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			lm.stats.seconds = since(tl) + (level == finest ? setup : 0.0);
 			lm.stats.tolerance = chosen;
 			lm.stats.trials = trials;
-			setTargetStats(params, level, target, topo.diagonal, lm.stats);
 			lm.stats.input = res.input;
 			lm.stats.secondsCollapse = secondsCollapse;
 			if (takeCollapsed) { // (the superface level's stats, but for what the mesh says)
@@ -691,9 +738,12 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 				st.placedVertices = c.placedVertices;
 				st.maxPlacement = c.maxPlacement;
 				st.collapses = c.collapses;
+				st.reduced = c.reduced;
+				st.maxTexError = c.maxTexError;
 				st.reusedFiner = st.reusedFiner || c.collapses == 0;
 			}
-			const LevelMesh &out = takeCollapsed ? collapsed.mesh : lm;
+			LevelMesh &out = takeCollapsed ? collapsed.mesh : lm;
+			setTargetStats(params, level, target, topo.diagonal, out.stats);
 			if (const size_t lost = uncoveredFaces(topo, out))
 				return fail(res, ErrorKind::Internal,
 				            "internal error: level " + std::to_string(level) +
@@ -712,14 +762,14 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 				res.levels.emplace_back();
 				res.levels.back().stats = given.stats;
 			}
-			if (collapsing && level > 0) { // (what the next level's collapses start from)
-				if (takeCollapsed)
-					delivered = std::move(collapsed);
-				else
-					delivered.clear();
-				deliveredIsFiner = !takeCollapsed && lm.triangles.size() / 3 <= kCollapseMaxFaces;
-			}
-			collapsed.clear();
+			// (what the next level's collapses start from: this level as delivered, kept apart
+			// when collapses made it, else rebuilt from `finer` when it is needed)
+			chainCollapsed = takeCollapsed;
+			chainIsFiner = !takeCollapsed;
+			if (takeCollapsed)
+				chain = std::move(collapsed);
+			else
+				chain.clear();
 			finer = std::move(lm);
 			// (kept for a coarser level that comes out with more faces; until then its positions
 			// and input labels are only memory: they are rebuilt from the input and the partition,

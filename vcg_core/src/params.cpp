@@ -181,6 +181,19 @@ std::vector<Entry> makeEntries()
 	      "comparison only: not a parameter of the filter.",
 	      double(d.collapseLevels), 0, 1, false, false},
 	     &Params::collapseLevels},
+	    {{"completeChain", K::Flag, "Keep every level a real step",
+	      "continue levels the cells leave too heavy by edge collapses (false = the paper's)",
+	      "Beyond the paper: on surfaces that curve at the scale of their triangles (low-poly, "
+	      "scanned, organic models) the Gauss-sphere cells merge little, and the paper's "
+	      "levels stay close to the input. With this on, a level with more than 0.8 times "
+	      "the faces of the level before it, or more than its share of the input (the coarsest "
+	      "level at most 15 %, the levels between in geometric steps), is continued by edge "
+	      "collapses with quadric placement down to that count; its normal deviation is then "
+	      "measured and reported, not held to its cells' bound, and its distance bound is "
+	      "proven as for every level. Exact levels (planar CAD) keep their counts. Off = the "
+	      "paper's levels.",
+	      double(d.completeChain), 0, 1, false, true},
+	     &Params::completeChain},
 	    {{"threads", K::Integer, "Worker threads", "worker threads, 0 = one per core",
 	      "Worker threads, 0 = one per core (at most 64); the output does not depend on it.",
 	      double(d.threads), 0, kInf, false, false},
