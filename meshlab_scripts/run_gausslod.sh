@@ -88,10 +88,13 @@ param() { # value of <Param name="$1" ...> in the script, or empty
     sed 's/^value="//; s/"$//' || true
 }
 max_level=$(param maxLevel); max_level=${max_level:-5}
-# levels by target (levelsBy "faces:50%,25%" or "error:0.01%,0.2%"): one level per target; a bad
-# list is the filter's to explain
+# levels by target (levelsBy 1 = face budgets or 2 = error targets, the list in levelTargets; in a
+# script written when levelsBy was text, "faces:50%,25%" or "error:0.01%,0.2%"): one level per
+# target; a bad list is the filter's to explain
 levels_by=$(param levelsBy | tr -d ' ' | tr '[:upper:]' '[:lower:]')
 case $levels_by in
+  1 | 2) targets=$(param levelTargets | tr -d ' ')
+         [ -n "$targets" ] && max_level=$(echo "$targets" | awk -F, '{ print NF }') ;;
   faces:?* | error:?*) max_level=$(echo "${levels_by#*:}" | awk -F, '{ print NF }') ;;
 esac
 output_levels=$(param outputLevels); output_levels=${output_levels:-all}
@@ -138,15 +141,21 @@ tmp=$(mktemp -d "${TMPDIR:-/tmp}/gausslod-run.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 mkdir -p "$tmp/config" "$tmp/runtime"; chmod 700 "$tmp/runtime"
 
-# a script written before the filter had its levelsBy or placeVertices parameter: meshlabserver
-# 2020.09 aborts on a script that lacks any of the filter's parameters, so a copy gets them with
-# what such a script meant (levels by angle; output vertices at their input positions)
+# a script written before the filter had its levelsBy, levelTargets, placeVertices or
+# completeChain parameter: meshlabserver 2020.09 aborts on a script that lacks any of the filter's
+# parameters, so a copy gets them with what such a script meant (levels by angle, or its levelsBy
+# text, which the filter still reads; output vertices at their input positions; the paper's
+# levels, not continued by collapses)
 run_script=$script
 missing=()
 grep -q 'name="levelsBy"' "$script" ||
   missing+=('<Param type="RichString" name="levelsBy" value="angle" description="Levels by"/>')
+grep -q 'name="levelTargets"' "$script" ||
+  missing+=('<Param type="RichString" name="levelTargets" value="" description="Targets"/>')
 grep -q 'name="placeVertices"' "$script" ||
   missing+=('<Param type="RichBool" name="placeVertices" value="false" description="Place vertices on the surface"/>')
+grep -q 'name="completeChain"' "$script" ||
+  missing+=('<Param type="RichBool" name="completeChain" value="false" description="Keep every level a real step"/>')
 if [ ${#missing[@]} -gt 0 ]; then
   run_script=$tmp/script.mlx
   awk -v f="$filter_name" -v add="$(printf '  %s\n' "${missing[@]}")" '

@@ -113,6 +113,27 @@ double fractionFromAbsPerc(const RichParameterList &par, const QString &name, do
 	return (value - ap->min) / (double(ap->max) - ap->min);
 }
 
+/// The filter's list of targets for 'Levels by' (its engine form is "faces:" or "error:" and it).
+const char *const kLevelTargets = "levelTargets";
+
+/// The engine's "Levels by" text (parseLevelsBy) from the dialog or a script: the drop-down and
+/// 'Targets', or (a script written when 'Levels by' was text) that text; none: angle.
+std::string levelsByText(const RichParameterList &par)
+{
+	if (!par.hasParameter("levelsBy"))
+		return "angle";
+	const RichParameter &rp = par.getParameterByName("levelsBy");
+	if (dynamic_cast<const RichEnum *>(&rp) == nullptr)
+		return par.getString("levelsBy").toStdString();
+	const std::string list =
+	    par.hasParameter(kLevelTargets) ? par.getString(kLevelTargets).toStdString() : "";
+	switch (par.getEnum("levelsBy")) {
+	case 1: return "faces:" + list;
+	case 2: return "error:" + list;
+	default: return "angle";
+	}
+}
+
 /// The engine's parameters from the dialog or a script, checked by the engine's validateParams.
 bool readRequest(const RichParameterList &par, double diag, FilterRequest &req, QString &error)
 {
@@ -130,10 +151,7 @@ bool readRequest(const RichParameterList &par, double diag, FilterRequest &req, 
 			gausslod::setParam(p, s, fractionFromAbsPerc(par, s.name, diag));
 			break;
 		case ParamKind::LevelList: outputLevels = par.getString(s.name).toStdString(); break;
-		case ParamKind::LevelTargets: // (scripts written before it have none: levels by angle)
-			if (par.hasParameter(s.name))
-				levelsBy = par.getString(s.name).toStdString();
-			break;
+		case ParamKind::LevelTargets: levelsBy = levelsByText(par); break;
 		}
 	}
 	// levels by target: one level per target ('Number of levels' is then the number of targets)
@@ -169,11 +187,10 @@ QString baseLabel(const MeshModel &m)
 /// "cow LOD2 (5,706 f, <=14.1 deg)"
 QString levelLabel(const QString &base, const gausslod::LevelStats &s, double diag)
 {
-	QString label = QString("%1 LOD%2 (%3 f, <=%4 deg")
-	                    .arg(base)
-	                    .arg(s.level)
-	                    .arg(thousands(s.faces))
-	                    .arg(QString::number(s.boundDeg, 'g', 3));
+	// (a level continued by collapses, DESIGN 51, does not keep its cells' bound: not shown)
+	QString label = QString("%1 LOD%2 (%3 f").arg(base).arg(s.level).arg(thousands(s.faces));
+	if (!s.reduced)
+		label += QString(", <=%1 deg").arg(QString::number(s.boundDeg, 'g', 3));
 	if (s.distanceBound >= 0 && diag > 0) // (the level's distance bound, % of the diagonal)
 		label += QString(", <=%1 %").arg(QString::number(100.0 * s.distanceBound / diag, 'g', 2));
 	return label + ")";
@@ -209,7 +226,12 @@ QString levelLogLine(const gausslod::LevelStats &s, double diag)
 		line += QString("; %1 vertices placed on the surface (moved at most %2 % of the diagonal)")
 		            .arg(thousands(s.placedVertices))
 		            .arg(QString::number(100.0 * s.maxPlacement / diag, 'f', 4));
-	if (s.collapses > 0)
+	if (s.collapses > 0 && s.reduced)
+		line += QString("; continued from LOD%1 by %2 edge collapses with quadric placement "
+		                "(normal deviation measured against the input faces)")
+		            .arg(s.level + 1)
+		            .arg(thousands(s.collapses));
+	else if (s.collapses > 0)
 		line += QString("; made from LOD%1 by %2 edge collapses (the superface level's face count "
 		                "within its distance bound; max normal deviation: a bound, mean: an estimate)")
 		            .arg(s.level + 1)
@@ -226,8 +248,8 @@ QString levelLogLine(const gausslod::LevelStats &s, double diag)
 		                     : QString("%1 faces").arg(thousands(s.targetFaces)))
 		            .arg(s.targetReached          ? "reached"
 		                 : s.targetDistance >= 0 ? "NOT reached (measured above it)"
-		                                         : "NOT reached (the level's normal bound stops "
-		                                           "merging before it)")
+		                                         : "NOT reached (the least the kept delimiters, "
+		                                           "boundaries and legal collapses allow)")
 		            .arg(QString::number(100.0 * s.tolerance, 'g', 4))
 		            .arg(s.trials)
 		            .arg(s.trials == 1 ? "" : "s");
@@ -251,8 +273,20 @@ std::unique_ptr<RichParameter> richParameter(const gausslod::ParamSpec &s, float
 	case ParamKind::DiagonalFraction:
 		return std::unique_ptr<RichParameter>(
 		    new RichAbsPerc(name, diag * float(s.defaultValue), 0.0f, diag, label, tip));
-	case ParamKind::LevelTargets:
-		return std::unique_ptr<RichParameter>(new RichString(name, "angle", label, tip));
+	case ParamKind::LevelTargets: // (a drop-down here; the list is kLevelTargets)
+		return std::unique_ptr<RichParameter>(new RichEnum(
+		    name, 0,
+		    QStringList() << "The paper's angle levels" << "Face budgets" << "Error targets",
+		    label,
+		    "What sets the levels. The paper's angle levels: 'Number of levels' of them, level i "
+		    "merging faces whose normals lie in one of 3^i x 3^i Gauss-sphere cells per cube "
+		    "face, each continued to a real step where its cells leave it too heavy ('Keep every "
+		    "level a real step'). Face budgets: one level per budget of 'Targets' (percentages of "
+		    "the input's faces, or counts), each with as many faces as fit; every budget is "
+		    "reached, by edge collapses where merging cannot get there (only what the kept "
+		    "materials and seams need can stop it: the log says so). Error targets: one level per "
+		    "distance of 'Targets' (% of the bounding-box diagonal), each with the fewest faces "
+		    "found whose proven distance to the input is within it."));
 	case ParamKind::LevelList: break;
 	}
 	return std::unique_ptr<RichParameter>(new RichString(name, "all", label, tip));
@@ -335,9 +369,19 @@ void FilterGaussLodPlugin::initParameterSet(QAction *a, MeshModel &m, RichParame
 	switch (ID(a)) {
 	case FP_GAUSS_SPHERE_LOD: {
 		const float diag = m.cm.bbox.IsNull() ? 1.0f : m.cm.bbox.Diag();
-		for (const gausslod::ParamSpec &s : gausslod::paramSpecs())
+		for (const gausslod::ParamSpec &s : gausslod::paramSpecs()) {
 			if (s.inFilter)
 				par.addParam(*richParameter(s, diag));
+			if (s.kind == gausslod::ParamKind::LevelTargets)
+				par.addParam(RichString(
+				    kLevelTargets, "50%,25%,10%,5%,2%", "Targets",
+				    "With 'Levels by' face budgets or error targets: a comma list, one level per "
+				    "target, in any order (the finest level gets the most faces or the smallest "
+				    "error; up to 8; 'Number of levels' is then their number). Face budgets: "
+				    "percentages of the input's faces (50%,25%,10%) or face counts (20000,5000). "
+				    "Error targets: distances as percentages of the bounding-box diagonal "
+				    "(0.01%,0.05%,0.2%). Not used by the paper's angle levels."));
+		}
 		par.addParam(RichBool("selectedOnly", false, "Only selected faces",
 		                      "Simplify only the selected faces: unselected faces are kept exactly "
 		                      "as they are, and the border between them and the selection is "

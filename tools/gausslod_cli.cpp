@@ -348,15 +348,21 @@ std::string levelJson(const gausslod::Params &p, const Outcome &o, size_t i)
 	              "\"seconds\":%.4f,\"seconds_partition\":%.4f,\"seconds_borders\":%.4f,"
 	              "\"seconds_triangulation\":%.4f,\"seconds_checks\":%.4f,"
 	              "\"seconds_placement\":%.4f,\"seconds_collapse\":%.4f,\"rounds\":%d,"
-	              "\"collapses\":%zu,\"reused_finer\":%s,\"distance_bound_pct\":%s,%s",
+	              "\"collapses\":%zu,\"reduced\":%s,\"reused_finer\":%s,\"distance_bound_pct\":%s,%s",
 	              s.level, s.faces, s.vertices, s.superfaces, s.fallbacks, s.retriangulated,
 	              s.carriedSuperfaces, s.boundDeg, s.maxNormalDevDeg, s.meanNormalDevDeg,
 	              s.unmeasuredFaces, s.seconds, s.secondsPartition, s.secondsBorders,
 	              s.secondsTriangulation, s.secondsChecks, s.secondsPlacement, s.secondsCollapse,
-	              s.rounds, s.collapses,
+	              s.rounds, s.collapses, s.reduced ? "true" : "false",
 	              s.reusedFiner ? "true" : "false", dist, placed);
-	std::string json = buf + repairsJson(s.input) + "," + attributesJson(o, s) + "," +
-	                   targetJson(p, s) + ",\"file\":" + jsonString(o.files[i]);
+	// (the texture limit the level was held to: its own, DESIGN 51, or the parameter's)
+	char texLimit[64] = "null";
+	if (s.maxTexError >= 0)
+		std::snprintf(texLimit, sizeof texLimit, "%.6g",
+		              s.texErrorLimit >= 0 ? s.texErrorLimit : p.maxTexError);
+	std::string json = buf + repairsJson(s.input) + "," + attributesJson(o, s) +
+	                   ",\"tex_error_limit\":" + texLimit + "," + targetJson(p, s) +
+	                   ",\"file\":" + jsonString(o.files[i]);
 	if (i < o.materialFiles.size() && !o.materialFiles[i].empty())
 		json += ",\"material_file\":" + jsonString(o.materialFiles[i]);
 	return json + "}";
@@ -631,14 +637,21 @@ int main(int argc, char **argv)
 		return out.code;
 	}
 	if (!o.json) {
-		std::string made; // (DESIGN 50)
-		for (const gausslod::LevelStats &l : out.levels)
+		std::string made, reduced; // (DESIGN 50, 51)
+		for (const gausslod::LevelStats &l : out.levels) {
+			std::string &list = l.reduced ? reduced : made;
 			if (l.collapses > 0)
-				made += (made.empty() ? "" : ", ") + ("LOD" + std::to_string(l.level));
+				list += (list.empty() ? "" : ", ") + ("LOD" + std::to_string(l.level));
+		}
 		if (!made.empty())
 			std::printf("%s: made from the finer level by edge collapses, at the superface level's "
 			            "face count within its distance bound (maxdev: a bound; meandev: an estimate)\n",
 			            made.c_str());
+		if (!reduced.empty())
+			std::printf("%s: continued by edge collapses with quadric placement to %s (maxdev, "
+			            "meandev: measured, each input face against the level's nearest triangle)\n",
+			            reduced.c_str(),
+			            targets ? "the level's target" : "a real step (--complete-chain)");
 		std::printf("total %.3f s; files in %s\n", out.seconds, outdir.c_str());
 	}
 	return 0;

@@ -350,7 +350,9 @@ TEST(BadInput, a_2M_triangle_closed_mesh_gives_closed_levels)
 	for (const LevelMesh &lm : r.levels) {
 		EXPECT_EQ(openOrBadEdges(lm.triangles), 0u) << "level " << lm.stats.level;
 		EXPECT_LE(lm.stats.faces, finer);
-		EXPECT_LE(lm.stats.maxNormalDevDeg, lm.stats.boundDeg + 1e-9) << "level " << lm.stats.level;
+		if (!lm.stats.reduced) // (a level continued to a real step measures its deviation)
+			EXPECT_LE(lm.stats.maxNormalDevDeg, lm.stats.boundDeg + 1e-9)
+			    << "level " << lm.stats.level;
 		finer = lm.stats.faces;
 	}
 	EXPECT_LT(finer, m.triangles.size() / 3 / 20); // the coarsest level is much lighter

@@ -389,9 +389,9 @@ TEST(ErrorBound, collapsed_levels_keep_the_superface_levels_counts_and_bounds)
 	for (const char *name : {"cow.off", "bunny00.off", "camel.off", "elephant.off", "fandisk.off"}) {
 		SCOPED_TRACE(name);
 		const FlatMesh m = loadOff(name);
-		Params off;
+		Params off = superfaceParams();
 		off.collapseLevels = false;
-		const Result a = buildLevels(m.view(), Params()), b = buildLevels(m.view(), off);
+		const Result a = buildLevels(m.view(), superfaceParams()), b = buildLevels(m.view(), off);
 		ASSERT_TRUE(a.ok && b.ok);
 		ASSERT_EQ(a.levels.size(), b.levels.size());
 		for (size_t i = 0; i < a.levels.size(); ++i) {

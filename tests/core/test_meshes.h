@@ -13,6 +13,8 @@
 #include <array>
 #include <functional>
 #include <map>
+#include <tuple>
+#include <unordered_map>
 #include <random>
 #include <set>
 #include <string>
@@ -30,11 +32,20 @@ class TFace : public vcg::Face<TUsedTypes, vcg::face::VertexRef, vcg::face::Norm
                                vcg::face::Color4b, vcg::face::Mark, vcg::face::BitFlags> {};
 class TMesh : public vcg::tri::TriMesh<std::vector<TVertex>, std::vector<TFace>> {};
 
+/// The filter's defaults for the superface levels alone: no level continued by collapses to a
+/// real step (Params::completeChain), so what a test checks is the superface build's.
+inline gausslod::Params superfaceParams()
+{
+	gausslod::Params p;
+	p.completeChain = false;
+	return p;
+}
+
 /// No straightening tolerance and no vicinity merging: every border vertex that is not exactly on
 /// its chain is kept (Params() has the filter's defaults, 0.5 % / 0.25 % of the diagonal).
 inline gausslod::Params exactParams()
 {
-	gausslod::Params p;
+	gausslod::Params p = superfaceParams();
 	p.maxDistance = 0;
 	p.straightenTol = 0;
 	p.mergeDist = 0;
@@ -44,7 +55,7 @@ inline gausslod::Params exactParams()
 /// The filter's defaults without the distance tolerance: normals alone decide, as in the paper.
 inline gausslod::Params paperParams()
 {
-	gausslod::Params p;
+	gausslod::Params p = superfaceParams();
 	p.maxDistance = 0;
 	return p;
 }
@@ -312,10 +323,87 @@ inline TopoFacts topoFacts(const std::vector<double> &P, const std::vector<int32
 	return r;
 }
 
+/// The input face nearest a point: faces listed in every cell of a uniform grid their boxes meet.
+class NearestInputFace {
+public:
+	explicit NearestInputFace(const gausslod::FlatMesh &m) : m_(m)
+	{
+		const size_t nF = m.triangles.size() / 3;
+		double area = 0;
+		for (size_t f = 0; f < nF; ++f)
+			area += ((corner(f, 1) - corner(f, 0)) ^ (corner(f, 2) - corner(f, 0))).Norm();
+		cell_ = std::max(2 * std::sqrt(area / double(std::max<size_t>(nF, 1))), 1e-12);
+		for (size_t f = 0; f < nF; ++f) {
+			Vec3 lo = corner(f, 0), hi = lo;
+			for (int k = 1; k < 3; ++k)
+				for (int j = 0; j < 3; ++j)
+					lo[j] = std::min(lo[j], corner(f, k)[j]), hi[j] = std::max(hi[j], corner(f, k)[j]);
+			for (long z = idx(lo[2]); z <= idx(hi[2]); ++z)
+				for (long y = idx(lo[1]); y <= idx(hi[1]); ++y)
+					for (long x = idx(lo[0]); x <= idx(hi[0]); ++x)
+						cells_[key(x, y, z)].push_back(f);
+		}
+	}
+	/// The nearest face's normal (not unit).
+	Vec3 normalNearest(const Vec3 &p) const
+	{
+		for (double r = cell_;; r *= 2) {
+			double best = r * r;
+			long found = -1;
+			for (long z = idx(p[2] - r); z <= idx(p[2] + r); ++z)
+				for (long y = idx(p[1] - r); y <= idx(p[1] + r); ++y)
+					for (long x = idx(p[0] - r); x <= idx(p[0] + r); ++x) {
+						const auto it = cells_.find(key(x, y, z));
+						if (it == cells_.end())
+							continue;
+						for (size_t f : it->second) {
+							vcg::Triangle3<double> tri(corner(f, 0), corner(f, 1), corner(f, 2));
+							Vec3 closest;
+							double d = HUGE_VAL;
+							vcg::TrianglePointDistance(tri, p, d, closest);
+							if (d * d < best)
+								best = d * d, found = long(f);
+						}
+					}
+			if (found >= 0)
+				return (corner(size_t(found), 1) - corner(size_t(found), 0)) ^
+				       (corner(size_t(found), 2) - corner(size_t(found), 0));
+		}
+	}
+
+private:
+	const gausslod::FlatMesh &m_;
+	double cell_ = 1;
+	struct KeyHash {
+		size_t operator()(const std::tuple<long, long, long> &k) const
+		{
+			return size_t(std::get<0>(k)) * 73856093u ^ size_t(std::get<1>(k)) * 19349663u ^
+			       size_t(std::get<2>(k)) * 83492791u;
+		}
+	};
+	std::unordered_map<std::tuple<long, long, long>, std::vector<size_t>, KeyHash> cells_;
+	Vec3 corner(size_t f, int k) const { return vpos(m_.positions, m_.triangles[3 * f + size_t(k)]); }
+	long idx(double x) const { return long(std::floor(x / cell_)); }
+	static std::tuple<long, long, long> key(long x, long y, long z) { return {x, y, z}; }
+};
+
 /// Output faces whose normal points away (>90 deg) from the input faces they replace: the input
-/// face of the same superface nearest to the output face's centroid (brute force per superface).
+/// face of the same superface nearest to the output face's centroid (brute force per superface);
+/// for a level continued by collapses (DESIGN 51, no superfaces of input faces), the input face
+/// nearest to it.
 inline size_t flippedFaces(const gausslod::FlatMesh &input, const gausslod::LevelMesh &level)
 {
+	if (level.stats.reduced) {
+		const NearestInputFace nearest(input);
+		size_t flipped = 0;
+		for (size_t t = 0; t < level.triangles.size() / 3; ++t) {
+			const Vec3 a = vpos(level.positions, level.triangles[3 * t]);
+			const Vec3 b = vpos(level.positions, level.triangles[3 * t + 1]);
+			const Vec3 c = vpos(level.positions, level.triangles[3 * t + 2]);
+			flipped += ((b - a) ^ (c - a)).dot(nearest.normalNearest((a + b + c) / 3.0)) < 0;
+		}
+		return flipped;
+	}
 	std::map<int32_t, std::vector<size_t>> facesOf;
 	for (size_t f = 0; f < level.inputSuperface.size(); ++f)
 		facesOf[level.inputSuperface[f]].push_back(f);

@@ -436,7 +436,7 @@ TEST(DistanceTolerance, no_input_vertex_ends_farther_than_the_tolerance_from_any
 	// distance tolerance refuses (then splits) the superfaces that would
 	const FlatMesh m = grid(40, [](double x, double y) { return Vec3(x, y, 0.3 * (x * x + y * y)); });
 	const double diag = bboxDiagonal(m.view());
-	Params free;
+	Params free = superfaceParams();
 	free.maxDistance = 0; // (the paper: normals only)
 	Params bounded = free;
 	bounded.maxDistance = 0.002; // of the diagonal, at every level

@@ -51,7 +51,8 @@ check_levels "$work/cow" cow "$work/cow.log" 4 3 2 1 0
 # tolerance, the bound adds the border pockets, DESIGN 23) above 0 and within 4x its level's
 for level in 4 3 2 1 0; do
   d=$(awk -v l="LOD$level" '$1 == l { print $(NF - 1) }' "$work/cow.log")
-  awk -v d="$d" -v l="$level" 'BEGIN { exit !(d ~ /^[0-9.]+$/ && d > 0 && d + 0 <= 4 * 0.02 * 2 ^ (4 - l)) }' &&
+  # (a level continued by collapses to a real step, DESIGN 51, may go to 32 x the tolerance)
+  awk -v d="$d" -v l="$level" 'BEGIN { exit !(d ~ /^[0-9.]+$/ && d > 0 && d + 0 <= 32 * 0.02 * 2 ^ (4 - l)) }' &&
     pass "cow LOD$level: distance bound $d %" ||
     fail "cow LOD$level: distance bound '$d' %, tolerance $(awk -v l="$level" 'BEGIN { print 0.02 * 2 ^ (4 - l) }') %"
 done
@@ -145,7 +146,7 @@ sed 's/name="maxLevel" value="[0-9]*"/name="maxLevel" value="9"/' \
 run filter_error "$data/cow.off" "$work/filter_error" "$work/bad_level.mlx"
 expect_failure filter_error "GaussLOD failed: Number of levels (maxLevel) must be between 1 and 8"
 
-sed 's/name="levelsBy" value="[^"]*"/name="levelsBy" value="faces:50%,50%"/' \
+sed 's/name="levelsBy" value="[^"]*"/name="levelsBy" value="1"/; s/name="levelTargets" value="[^"]*"/name="levelTargets" value="50%,50%"/' \
     "$(dirname "$runner")/gausslod_default.mlx" >"$work/bad_targets.mlx"
 run bad_targets "$data/cow.off" "$work/bad_targets" "$work/bad_targets.mlx"
 expect_failure bad_targets "GaussLOD failed: Levels by (levelsBy): the target 50% is given twice"

@@ -137,12 +137,13 @@ struct ParsedLabel {
 };
 
 /// "cow LOD2 (5,706 f, <=14.1 deg)", with the distance tolerance "cow LOD2 (5,420 f, <=14.1 deg,
-/// <=0.15 %)"
+/// <=0.15 %)"; a level continued by collapses (DESIGN 51) has no angle: "cow LOD2 (1,858 f,
+/// <=1.4 %)"
 bool parseLabel(const QString &label, ParsedLabel &out)
 {
 	// (with the distance tolerance, the label ends with the level's distance bound)
 	static const QRegularExpression re(
-	    R"(^(.+) LOD(\d) \(([\d,]+) f, <=([\d.]+) deg(?:, <=([\d.e-]+) %)?\)$)");
+	    R"(^(.+) LOD(\d) \(([\d,]+) f(?:, <=([\d.]+) deg)?(?:, <=([\d.e-]+) %)?\)$)");
 	const QRegularExpressionMatch m = re.match(label);
 	if (!m.hasMatch())
 		return false;

@@ -280,6 +280,11 @@ struct LevelStats {
 	                             ///< Hausdorff distance), mesh units; proven per superface, not
 	                             ///< sampled (DESIGN 23); measured, it is about half of this;
 	                             ///< -1 = not computed (tolerance off)
+	double texErrorLimit = -1;   ///< with MeshView::cornerUV, a level continued by collapses
+	                             ///< (reduced): the texture limit it was built with, UV units
+	                             ///< (Params::maxTexError scaled by the square root of the input
+	                             ///< faces over the level's; in faces mode it gives way where the
+	                             ///< budget needs it); 0 = none, -1 = the level's own check
 	double maxTexError = -1;     ///< with MeshView::cornerUV: the largest texture-coordinate
 	                             ///< error measured at removed vertices (UV units); -1 = none
 	size_t placedVertices = 0;   ///< output vertices moved off their input position

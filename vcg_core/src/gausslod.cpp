@@ -255,12 +255,11 @@ void keepFinerLevel(const MeshView &mesh, int level, std::vector<detail::Partiti
 
 // DESIGN 51: a level of the angle chain (Params::completeChain) has at most this share of the
 // faces of the level delivered before it, and the coarsest level at most kCoarsestShare of the
-// input's (the levels between, geometric shares), unless its distance bound is below kExact of
-// the diagonal (an exact level, as planar CAD's, keeps its count).
-// A step may cost at most kStepError times the distance bound of the level before it (or the
-// level's distance tolerance, if larger): a shape that a step would break (a cube whose corners
-// would go) keeps its count.
-constexpr double kStepShare = 0.8, kCoarsestShare = 0.15, kExact = 1e-5, kStepError = 32;
+// input's (the levels between, geometric shares); but its distance bound may not exceed
+// kStepError times the level's distance tolerance (stepTolerance), so that a shape a step would
+// break (a cube whose corners would go, planar CAD at its minimal count, a thin leg) keeps its
+// count.
+constexpr double kStepShare = 0.8, kCoarsestShare = 0.15, kStepError = 32;
 
 // The distance tolerance a level's step is measured against (fraction of the diagonal): its own,
 // or the default's where the tolerance is off.
@@ -634,9 +633,6 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			const size_t chainFaces = level == finest ? full.faceCount - res.input.facesSkipped()
 			                          : chainIsFiner  ? finer.stats.faces
 			                                          : chain.mesh.triangles.size() / 3;
-			const double chainBound = level == finest ? 0.0
-			                          : chainIsFiner  ? finer.stats.distanceBound
-			                                          : chain.mesh.stats.distanceBound;
 			// DESIGN 50 (angle levels): the chain collapsed to this level's face count within its
 			// distance bound and normal limit, vertices kept where they are; taken where no input
 			// vertex ends farther from it
@@ -651,6 +647,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 				                   ? std::min(90.0, params.normalLimit * levelBoundDeg(level))
 				                   : 90.0;
 				rl.placement = false;
+				rl.keepSuperfaces = true;
 				ReduceReport rr;
 				takeCollapsed = reduceLevel(topo, mesh, chain, rl, threads, collapsed, rr) &&
 				                farthestInputVertex(topo, collapsed.mesh,
@@ -682,10 +679,18 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			} else if (params.completeChain) {
 				const LevelStats &o = takeCollapsed ? collapsed.mesh.stats : lm.stats;
 				const size_t cap = stepFaces(params, level, chainFaces, full.faceCount);
-				reduce = o.faces > cap && o.distanceBound > kExact * topo.diagonal;
+				reduce = o.faces > cap;
 				rl.faces = cap;
-				rl.bound = kStepError * std::max(chainBound, stepTolerance(params, level) *
-				                                                 topo.diagonal);
+				rl.bound = kStepError * stepTolerance(params, level) * topo.diagonal;
+			}
+			if (reduce && topo.UV && params.maxTexError > 0) {
+				// (a coarser level is seen smaller: its limit in texels of its own screen size,
+				// the input's limit times the square root of the faces it has fewer; a limit that
+				// would keep a budget or a step from being reached gives way, doubling)
+				const size_t seen = rl.faces > 0 ? rl.faces : std::max<size_t>(chainFaces, 1);
+				rl.texError = params.maxTexError *
+				              std::sqrt(double(full.faceCount) / double(std::max<size_t>(seen, 1)));
+				rl.texErrorSoft = !byError;
 			}
 			if (reduce) {
 				needChain();
@@ -710,6 +715,8 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 				if (take) {
 					collapsed = std::move(reduced);
 					collapsed.mesh.stats.reduced = true;
+					collapsed.mesh.stats.texErrorLimit = rr.texErrorLimit;
+					measureNormalDeviation(topo, collapsed.mesh, threads);
 					takeCollapsed = true;
 				}
 			}
@@ -740,6 +747,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 				st.collapses = c.collapses;
 				st.reduced = c.reduced;
 				st.maxTexError = c.maxTexError;
+				st.texErrorLimit = c.texErrorLimit;
 				st.reusedFiner = st.reusedFiner || c.collapses == 0;
 			}
 			LevelMesh &out = takeCollapsed ? collapsed.mesh : lm;

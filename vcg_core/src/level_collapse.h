@@ -1,6 +1,5 @@
-// Beyond the paper (docs/DESIGN.md, 50): a coarser level made from the finer level's mesh by
-// half-edge collapses, with a distance bound proven per collapse, when that reaches the
-// superface level's face count within its distance bound.
+// Beyond the paper (docs/DESIGN.md, 50, 51): a level as the next level's collapses (reduce.h)
+// start from it, and the measures that compare levels made different ways.
 #pragma once
 
 #include "engine.h"
@@ -38,29 +37,19 @@ struct CollapseSource {
 /// if it still needs it).
 void collapseSourceOf(const Topology &t, LevelMesh lm, CollapseSource &out);
 
-/// What a collapsed level may not exceed.
-struct CollapseLimits {
-	size_t faces = 0;        ///< at most this many triangles (the superface level's count)
-	double bound = 0;        ///< every triangle's distance bound at most this (mesh units)
-	double normalDeg = 90;   ///< every triangle within this of every input normal it stands for
-	double featureDeg = 30;  ///< vertices on an edge sharper than this are never removed
-	double placement = 0;    ///< vertices of new triangles move along their normal by at most
-	                         ///< this (0 = not at all)
-};
-
-/// Half-edge collapses of `src`, the one with the smallest gap first, each keeping the limits,
-/// until at most `lim.faces` triangles remain. True, with the level in `out` (stats: faces,
-/// vertices, superfaces, normal deviations, distance bound, placed vertices), if it got there;
-/// false (out unspecified) if no collapse is left first. Output vertices are `src`'s, at their
-/// input positions, or where the placement moved them along their normal. Vertices on a mesh boundary, a non-manifold edge, a delimiter (different
-/// keys on its two sides) or a sharp edge, and locked input vertices, are never removed.
-bool collapseLevel(const Topology &t, const MeshView &mesh, const CollapseSource &src,
-                   const CollapseLimits &lim, size_t threads, CollapseSource &out);
+/// The smallest cone (of this construction) holding both.
+NormalCone mergeCones(const NormalCone &a, const NormalCone &b);
 
 /// The largest distance from an input vertex (of a valid face) to the level's triangles, each
 /// looked for within `within` (the level's distance bound: every input point is that close).
 double farthestInputVertex(const Topology &t, const LevelMesh &level, double within,
                            size_t threads);
+
+/// The level's normal deviation, measured: for every valid input face, the angle between its
+/// normal and that of the level's triangle nearest its centroid (looked for within the level's
+/// distance bound): the largest into stats.maxNormalDevDeg, the area-weighted mean into
+/// stats.meanNormalDevDeg.
+void measureNormalDeviation(const Topology &t, LevelMesh &level, size_t threads);
 
 } // namespace detail
 } // namespace gausslod

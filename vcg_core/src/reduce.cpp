@@ -61,6 +61,7 @@ constexpr int kMaxRing = 32;          // a vertex with more triangles around it 
 constexpr double kFacing = 1e-3;      // cos of the steepest triangle allowed against the patch
 constexpr double kFacingCells = 3;    // the thin-part test's reach, in face-grid cells
 constexpr double kBorderWeight = 1.0; // boundary and delimiter planes, per squared edge length
+constexpr double kMaxTexLimit = 1.0;  // a soft texture limit doubles up to this (UV units)
 
 enum Kind : uint8_t { kFree, kBoundary, kSeam, kFixed, kGone };
 
@@ -125,6 +126,7 @@ struct Plan {
 	int32_t keptCorner[2] = {-1, -1}; // (half: u's corners in the two dead triangles)
 	PatchProof proof;
 	double bound[PatchCase::kMaxTris];
+	double uvBound[PatchCase::kMaxTris];
 };
 
 class Reducer {
@@ -146,7 +148,8 @@ private:
 	std::vector<int32_t> srcV_, T_, srcC_, head_, next_, fwd_;
 	std::vector<uint8_t> alive_, dlm_, kind_, blocked_;
 	std::vector<uint32_t> stamp_;
-	std::vector<double> e_;
+	std::vector<double> e_, devBound_; // (devBound_: of a triangle made here, -1 otherwise)
+	std::vector<int32_t> sf_, sfUf_;    // (keepSuperfaces: each triangle's source superface)
 	std::vector<NormalCone> cone_;
 	std::vector<float> uvErr_;
 	std::vector<Quadric> Q_;
@@ -173,7 +176,20 @@ private:
 	bool plan(int32_t a, int32_t b, int op, const Vec3 &pos, Plan &pl) const;
 	double slop() const { return 1e-12 * t_.diagonal; }
 	bool check(Plan &pl) const;
+	bool keys_ = false;
+	double texLimit_ = lim_.texError;
+	int32_t superfaceOf(int32_t f) // (keepSuperfaces: the root of f's merged source superface)
+	{
+		int32_t x = sf_[size_t(f)];
+		while (sfUf_[size_t(x)] != x)
+			x = sfUf_[size_t(x)] = sfUf_[size_t(sfUf_[size_t(x)])];
+		return x;
+	}
+	std::vector<int32_t> srcF_;
+	void setDelimiter(int32_t c);
+	uint8_t kindOf(int32_t v) const;
 	bool facesInput(const Plan &pl) const;
+	bool textureError(Plan &pl) const;
 	/// The cost of a collapse whose quadric error is q and whose largest gap is g.
 	double cost(int32_t a, int32_t b, double g, double q) const;
 	/// The gap of an operation (HUGE_VAL if it is not possible).
@@ -267,27 +283,6 @@ int32_t twinOf(const std::vector<int32_t> &T, const std::vector<int32_t> &head,
 	return found;
 }
 
-NormalCone mergeNormalCones(const NormalCone &a, const NormalCone &b)
-{
-	const double d = angleDeg(a.axis, b.axis);
-	if (d + b.half <= a.half)
-		return a;
-	if (d + a.half <= b.half)
-		return b;
-	const double half = 0.5 * (d + a.half + b.half);
-	if (half >= 180)
-		return {a.axis, 180};
-	Vec3 w = b.axis - a.axis * b.axis.dot(a.axis);
-	const double wl = w.Norm();
-	if (wl < 1e-15)
-		return {a.axis, half};
-	w /= wl;
-	const double r = (half - a.half) * M_PI / 180; // (a's axis turned towards b's by this)
-	Vec3 axis = a.axis * std::cos(r) + w * std::sin(r);
-	axis.Normalize();
-	return {axis, half};
-}
-
 void Reducer::setUp()
 {
 	const LevelMesh &sm = src_.mesh;
@@ -307,27 +302,30 @@ void Reducer::setUp()
 		head_[size_t(T_[c])] = int32_t(c);
 	}
 	e_ = src_.bound;
+	devBound_.assign(nT, -1.0);
 	cone_ = src_.cone;
+	if (lim_.keepSuperfaces) {
+		sf_ = sm.superface;
+		int32_t n = 0; // (over the input faces' ids too: a dropped face's may have no triangle)
+		for (int32_t x : sf_)
+			n = std::max(n, x + 1);
+		for (int32_t x : sm.inputSuperface)
+			n = std::max(n, x + 1);
+		sfUf_.resize(size_t(n));
+		for (int32_t x = 0; x < n; ++x)
+			sfUf_[size_t(x)] = x;
+	}
 	uvErr_ = src_.uvError.size() == nT ? src_.uvError : std::vector<float>(nT, 0.0f);
 	fwd_.assign(nT, -1);
 	stamp_.assign(nV, 0);
 	blocked_.assign(nV, 0);
 	// delimiters: an edge whose two triangles differ in face key, or in corner key at an end
 	dlm_.assign(3 * nT, 0);
-	const bool keys = (mesh_.faceKey || mesh_.cornerKey) && !srcC_.empty() &&
-	                  sm.sourceFace.size() == nT;
-	for (size_t c = 0; keys && c < 3 * nT; ++c) {
-		const int32_t d = twinOf(T_, head_, next_, alive_, int32_t(c));
-		if (d < 0)
-			continue;
-		const int32_t sf = sm.sourceFace[c / 3], sg = sm.sourceFace[size_t(heFace(d))];
-		bool cut = mesh_.faceKey && mesh_.faceKey[sf] != mesh_.faceKey[sg];
-		if (mesh_.cornerKey) { // (c is at a, d at b; d's next is its corner at a)
-			const uint32_t *K = mesh_.cornerKey;
-			cut = cut || K[srcC_[c]] != K[srcC_[size_t(heNext(d))]] ||
-			      K[srcC_[size_t(heNext(int32_t(c)))]] != K[srcC_[size_t(d)]];
-		}
-		dlm_[c] = cut;
+	keys_ = (mesh_.faceKey || mesh_.cornerKey) && !srcC_.empty() && sm.sourceFace.size() == nT;
+	if (keys_) {
+		srcF_ = sm.sourceFace;
+		for (size_t c = 0; c < 3 * nT; ++c)
+			setDelimiter(int32_t(c));
 	}
 	// quadrics: carried, or the planes of the source's triangles (area-weighted) and of its
 	// boundary and delimiter edges (orthogonal to the triangle, through the edge)
@@ -368,23 +366,40 @@ void Reducer::classify()
 	const size_t nV = P_.size();
 	kind_.assign(nV, kGone);
 	parallelRanges(nV, threads_, [&](size_t b, size_t e, size_t) {
-		Ring r;
-		for (size_t v = b; v < e; ++v) {
-			if (head_[v] < 0)
-				continue;
-			if (t_.vertexLocked[size_t(srcV_[v])] || !ring(int32_t(v), r)) {
-				kind_[v] = kFixed;
-				continue;
-			}
-			int delimiters = 0;
-			for (int i = 0; i < r.n; ++i)
-				delimiters += dlm_[size_t(r.corner[i])];
-			if (!r.closed) // (the last edge, nb[n] -> v, is a boundary edge: no delimiter)
-				kind_[v] = delimiters == 0 ? kBoundary : kFixed;
-			else
-				kind_[v] = delimiters == 0 ? kFree : delimiters == 2 ? kSeam : kFixed;
-		}
+		for (size_t v = b; v < e; ++v)
+			if (head_[v] >= 0)
+				kind_[v] = kindOf(int32_t(v));
 	});
+}
+
+void Reducer::setDelimiter(int32_t c)
+{
+	const int32_t d = twinOf(T_, head_, next_, alive_, c);
+	if (d < 0) {
+		dlm_[size_t(c)] = 0;
+		return;
+	}
+	bool cut = mesh_.faceKey && mesh_.faceKey[srcF_[size_t(heFace(c))]] !=
+	                                mesh_.faceKey[srcF_[size_t(heFace(d))]];
+	if (mesh_.cornerKey) { // (c is at a, d at b; d's next is its corner at a)
+		const uint32_t *K = mesh_.cornerKey;
+		cut = cut || K[srcC_[size_t(c)]] != K[srcC_[size_t(heNext(d))]] ||
+		      K[srcC_[size_t(heNext(c))]] != K[srcC_[size_t(d)]];
+	}
+	dlm_[size_t(c)] = dlm_[size_t(d)] = cut;
+}
+
+uint8_t Reducer::kindOf(int32_t v) const
+{
+	Ring r;
+	if (t_.vertexLocked[size_t(srcV_[size_t(v)])] || !ring(v, r))
+		return kFixed;
+	int delimiters = 0;
+	for (int i = 0; i < r.n; ++i)
+		delimiters += dlm_[size_t(r.corner[i])];
+	if (!r.closed) // (the last edge, nb[n] -> v, is a boundary edge: no delimiter)
+		return delimiters == 0 ? kBoundary : kFixed;
+	return delimiters == 0 ? kFree : delimiters == 2 ? kSeam : kFixed;
 }
 
 bool Reducer::edgeFlags(int32_t a, int32_t b, bool &boundaryEdge, bool &delimiterEdge) const
@@ -719,6 +734,106 @@ bool Reducer::check(Plan &pl) const
 		if (pl.bound[i] > lim_.bound)
 			return false;
 	}
+	return textureError(pl);
+}
+
+// The point of triangle (a, b, c) nearest p, as barycentric coordinates.
+void nearestBarycentric(const Vec3 &p, const Vec3 &a, const Vec3 &b, const Vec3 &c, double &l0,
+                        double &l1, double &l2)
+{
+	// (the nearest point by the same regions as pointTriangleDistance2, then its coordinates)
+	const Vec3 ab = b - a, ac = c - a, ap = p - a;
+	const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+	if (d1 <= 0 && d2 <= 0) {
+		l0 = 1, l1 = l2 = 0;
+		return;
+	}
+	const Vec3 bp = p - b;
+	const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+	if (d3 >= 0 && d4 <= d3) {
+		l1 = 1, l0 = l2 = 0;
+		return;
+	}
+	const double vc = d1 * d4 - d3 * d2;
+	if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+		const double v = d1 / (d1 - d3);
+		l0 = 1 - v, l1 = v, l2 = 0;
+		return;
+	}
+	const Vec3 cp = p - c;
+	const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+	if (d6 >= 0 && d5 <= d6) {
+		l2 = 1, l0 = l1 = 0;
+		return;
+	}
+	const double vb = d5 * d2 - d1 * d6;
+	if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+		const double w = d2 / (d2 - d6);
+		l0 = 1 - w, l2 = w, l1 = 0;
+		return;
+	}
+	const double va = d3 * d6 - d5 * d4;
+	if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+		const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+		l1 = 1 - w, l2 = w, l0 = 0;
+		return;
+	}
+	const double den = 1.0 / (va + vb + vc);
+	l1 = vb * den, l2 = vc * den, l0 = 1 - l1 - l2;
+}
+
+bool Reducer::textureError(Plan &pl) const
+{
+	const PatchCase &c = pl.pc;
+	for (int i = 0; i < c.nNew; ++i)
+		pl.uvBound[i] = 0;
+	if (!t_.UV || pl.full || srcC_.empty())
+		return true;
+	// at the removed vertex, on each side of a seam: its own coordinates against those the new
+	// triangles of that side show at their point nearest it
+	const float *UV = t_.UV;
+	const Vec3 &pv = P_[size_t(pl.gone)];
+	double nearest[2] = {HUGE_VAL, HUGE_VAL}, err[2] = {0, 0};
+	int side = 0;
+	for (int i = 0; i < c.nNew; ++i) {
+		const int32_t f = pl.newId[i];
+		int32_t cv = -1;
+		for (int32_t q = 3 * f; q < 3 * f + 3; ++q)
+			if (T_[size_t(q)] == pl.gone)
+				cv = q;
+		if (cv < 0)
+			continue;
+		if (dlm_[size_t(cv)])
+			side = 1;
+		Vec3 p[3];
+		double uv[3][2];
+		for (int k = 0; k < 3; ++k) {
+			const int32_t q = 3 * f + k;
+			const int32_t src = q == cv ? srcC_[size_t(pl.keptCorner[side])] : srcC_[size_t(q)];
+			p[k] = q == cv ? P_[size_t(pl.kept)] : P_[size_t(T_[size_t(q)])];
+			uv[k][0] = UV[2 * size_t(src)], uv[k][1] = UV[2 * size_t(src) + 1];
+		}
+		const double d2 = pointTriangleDistance2(pv, p[0], p[1], p[2]);
+		if (d2 >= nearest[side])
+			continue;
+		nearest[side] = d2;
+		double l[3];
+		nearestBarycentric(pv, p[0], p[1], p[2], l[0], l[1], l[2]);
+		const size_t own = size_t(srcC_[size_t(cv)]);
+		const double du = l[0] * uv[0][0] + l[1] * uv[1][0] + l[2] * uv[2][0] - UV[2 * own];
+		const double dv = l[0] * uv[0][1] + l[1] * uv[1][1] + l[2] * uv[2][1] - UV[2 * own + 1];
+		err[side] = std::sqrt(du * du + dv * dv);
+	}
+	const double local = std::max(err[0], err[1]);
+	for (int i = 0; i < c.nNew; ++i) {
+		double worst = 0;
+		for (int j = 0; j < c.nOld; ++j)
+			if (pl.proof.under[i] >> j & 1)
+				worst = std::max(worst, double(uvErr_[size_t(pl.oldId[j])]));
+		pl.uvBound[i] = worst + local;
+		if (texLimit_ > 0 && pl.uvBound[i] > texLimit_)
+			return false;
+	}
 	return true;
 }
 
@@ -754,19 +869,31 @@ void Reducer::apply(const Plan &pl)
 {
 	const PatchCase &c = pl.pc;
 	const int32_t u = pl.kept, v = pl.gone;
-	// the new triangles' bounds, cones and texture errors, from the old ones under them
+	// the new triangles' cones, from the old ones under them, and the largest deviation from
+	// each of those (what the level reports)
 	NormalCone cones[PatchCase::kMaxTris];
-	float uv[PatchCase::kMaxTris];
+	double dev[PatchCase::kMaxTris];
 	for (int i = 0; i < c.nNew; ++i) {
 		bool first = true;
-		uv[i] = 0;
+		const Vec3 &a = c.pos[c.newTri[i][0]], &b = c.pos[c.newTri[i][1]], &d = c.pos[c.newTri[i][2]];
+		Vec3 nt = (b - a) ^ (d - a);
+		nt.Normalize();
+		dev[i] = 0;
 		for (int j = 0; j < c.nOld; ++j)
 			if (pl.proof.under[i] >> j & 1) {
-				const int32_t s = pl.oldId[j];
-				cones[i] = first ? cone_[size_t(s)] : mergeNormalCones(cones[i], cone_[size_t(s)]);
-				uv[i] = std::max(uv[i], uvErr_[size_t(s)]);
+				const NormalCone &k = cone_[size_t(pl.oldId[j])];
+				dev[i] = std::max(dev[i], std::min(180.0, angleDeg(nt, k.axis) + k.half));
+				cones[i] = first ? k : mergeCones(cones[i], k);
 				first = false;
 			}
+	}
+	if (lim_.keepSuperfaces) { // (the patch's superfaces become one)
+		const int32_t root = superfaceOf(pl.oldId[0]);
+		for (int j = 1; j < c.nOld; ++j) {
+			const int32_t r = superfaceOf(pl.oldId[j]);
+			if (r != root)
+				sfUf_[size_t(r)] = root;
+		}
 	}
 	for (int d = 0; d < pl.nDead; ++d) { // (each dead triangle goes into a new one over it)
 		int j = 0;
@@ -812,8 +939,9 @@ void Reducer::apply(const Plan &pl)
 				srcC_[size_t(q)] = keptSource[side];
 		}
 		e_[size_t(f)] = pl.bound[i];
+		devBound_[size_t(f)] = dev[i];
 		cone_[size_t(f)] = cones[i];
-		uvErr_[size_t(f)] = uv[i];
+		uvErr_[size_t(f)] = std::nextafter(float(pl.uvBound[i]), 3e38f);
 	}
 	// v's corners join u's list
 	if (head_[size_t(v)] >= 0) {
@@ -830,6 +958,18 @@ void Reducer::apply(const Plan &pl)
 		for (int32_t q = 3 * pl.dead[d]; q < 3 * pl.dead[d] + 3; ++q)
 			if (T_[size_t(q)] != u && T_[size_t(q)] != v)
 				prune(T_[size_t(q)]);
+	if (keys_) { // (the fan's edges join triangles anew: their delimiters, and the kinds around)
+		for (int i = 0; i < c.nNew; ++i)
+			for (int k = 0; k < 3; ++k)
+				setDelimiter(3 * pl.newId[i] + k);
+		if (kind_[size_t(u)] != kFixed)
+			kind_[size_t(u)] = kindOf(u);
+		for (int i = 0; i < c.nPts; ++i) {
+			const int32_t w = pl.point[i];
+			if (w >= 0 && w != u && w != v && kind_[size_t(w)] != kFixed)
+				kind_[size_t(w)] = kindOf(w);
+		}
+	}
 	++stamp_[size_t(u)];
 	pushEdges(u);
 	for (int i = 0; i < c.nPts; ++i) { // (collapses refused near here may be legal now)
@@ -847,7 +987,7 @@ bool Reducer::run(CollapseSource &out, ReduceReport &report)
 	const size_t nV = P_.size();
 	const bool budget = lim_.faces > 0;
 	auto more = [&] { return !budget || live_ > lim_.faces; };
-	for (int round = 0; round < 8 && more(); ++round) {
+	for (int round = 0; round < 32 && more(); ++round) {
 		// every edge's best operation (each vertex's edges to higher vertices, in parallel)
 		std::vector<std::vector<Entry>> parts(std::max<size_t>(threads_, 1));
 		const size_t chunk = 4096, nChunks = (nV + chunk - 1) / chunk;
@@ -913,9 +1053,13 @@ bool Reducer::run(CollapseSource &out, ReduceReport &report)
 			apply(pl);
 			++collapses_;
 		}
-		if (collapses_ == before)
-			break;
+		if (collapses_ == before) {
+			if (!(texLimit_ > 0 && texLimit_ < kMaxTexLimit && lim_.texErrorSoft))
+				break;
+			texLimit_ *= 2; // (the budget needs more than the texture limit allows)
+		}
 	}
+	report.texErrorLimit = texLimit_;
 	write(out, report);
 	return !more() || !budget;
 }
@@ -926,20 +1070,22 @@ void Reducer::write(CollapseSource &out, ReduceReport &report)
 	const size_t nV = P_.size(), nT = T_.size() / 3;
 	out.clear();
 	LevelMesh &o = out.mesh;
-	// superfaces: connected triangles whose normals fall in one cell of the level, across edges
-	// that are no delimiter
+	// superfaces: the source's as the collapses merged them (keepSuperfaces), else connected
+	// triangles whose normals fall in one cell of the level, across edges that are no delimiter
 	std::vector<int32_t> uf(nT);
 	std::vector<CellKey> cell(nT, kInvalidCell);
 	for (size_t f = 0; f < nT; ++f) {
 		uf[f] = int32_t(f);
-		if (alive_[f])
+		if (alive_[f] && !lim_.keepSuperfaces)
 			cell[f] = cellOfNormal(normal(int32_t(f)), lim_.level);
 	}
-	auto find = [&](int32_t x) {
+	auto findCell = [&](int32_t x) {
 		while (uf[size_t(x)] != x)
 			x = uf[size_t(x)] = uf[size_t(uf[size_t(x)])];
 		return x;
 	};
+	// (a group's id: a source superface's root, or a triangle that is its cell group's root)
+	auto find = [&](int32_t f) { return lim_.keepSuperfaces ? superfaceOf(f) : findCell(f); };
 	std::vector<int32_t> twin(3 * nT, -1);
 	for (size_t c = 0; c < 3 * nT; ++c) {
 		if (!alive_[c / 3])
@@ -948,11 +1094,12 @@ void Reducer::write(CollapseSource &out, ReduceReport &report)
 		const int32_t d = twin[c];
 		if (d < 0 || dlm_[c] || cell[c / 3] == kInvalidCell || cell[c / 3] != cell[size_t(heFace(d))])
 			continue;
-		const int32_t a = find(int32_t(c / 3)), b = find(heFace(d));
+		const int32_t a = findCell(int32_t(c / 3)), b = findCell(heFace(d));
 		if (a != b)
 			uf[size_t(std::max(a, b))] = std::min(a, b);
 	}
-	std::vector<int32_t> remap(nV, -1), triId(nT, -1), sfId(nT, -1);
+	std::vector<int32_t> remap(nV, -1), triId(nT, -1),
+	    sfId(std::max(nT, sfUf_.size()), -1);
 	for (size_t f = 0; f < nT; ++f)
 		if (alive_[f])
 			for (int k = 0; k < 3; ++k)
@@ -1014,11 +1161,12 @@ void Reducer::write(CollapseSource &out, ReduceReport &report)
 		Vec3 n = normal(int32_t(f));
 		const double a = 0.5 * n.Norm();
 		area += a;
-		if (a > 0) {
+		if (devBound_[f] < 0) { // (as the source measured it)
+			devArea += a * sm.stats.meanNormalDevDeg;
+		} else if (a > 0) {
 			n.Normalize();
-			const double dev = angleDeg(n, cone_[f].axis);
-			maxDev = std::max(maxDev, std::min(180.0, dev + cone_[f].half));
-			devArea += a * dev;
+			maxDev = std::max(maxDev, devBound_[f]);
+			devArea += a * angleDeg(n, cone_[f].axis);
 		}
 		maxBound = std::max(maxBound, e_[f]);
 		maxUv = std::max(maxUv, uvErr_[f]);
@@ -1065,11 +1213,21 @@ void Reducer::write(CollapseSource &out, ReduceReport &report)
 		out.inputTri[i] = triId[size_t(tri)];
 		o.inputSuperface[i] = sfId[size_t(find(tri))];
 	}
+	if (lim_.keepSuperfaces) // (an input face's superface, as merged: -1 if it has no triangle)
+		for (size_t i = 0; i < nIn; ++i) {
+			const int32_t x = sm.inputSuperface[i];
+			if (x >= 0) {
+				int32_t r = x;
+				while (sfUf_[size_t(r)] != r)
+					r = sfUf_[size_t(r)];
+				o.inputSuperface[i] = sfId[size_t(r)];
+			}
+		}
 	LevelStats &st = o.stats;
 	st.faces = o.triangles.size() / 3;
 	st.vertices = size_t(nextV);
 	st.superfaces = size_t(nextSf);
-	st.maxNormalDevDeg = maxDev;
+	st.maxNormalDevDeg = std::max(sm.stats.maxNormalDevDeg, maxDev);
 	st.meanNormalDevDeg = area > 0 ? devArea / area : 0;
 	st.unmeasuredFaces = 0;
 	st.distanceBound = maxBound;

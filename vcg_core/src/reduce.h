@@ -24,10 +24,15 @@ struct ReduceLimits {
 	double bound = HUGE_VAL;  ///< every triangle's distance bound at most this (mesh units)
 	double normalDeg = 180;   ///< every triangle within this of the input normals it stands
 	                          ///< for (>= 180: only the facing tests)
-	double texError = 0;      ///< with texture coordinates: the largest UV error a collapse may
-	                          ///< add at a removed vertex, UV units (0 = no limit)
+	double texError = 0;      ///< with texture coordinates: every triangle's UV error bound at
+	                          ///< most this, UV units (0 = no limit)
+	bool texErrorSoft = false; ///< where the face budget cannot be reached within it, the limit
+	                           ///< doubles until it can (the collapses within it go first)
 	bool placement = true;    ///< full collapses placed by the quadric (no texture coordinates)
 	int level = 0;            ///< Gauss-sphere level: the output's superfaces are its cells'
+	/// The output's superfaces are the source's, merged where a collapse joins them (DESIGN 50:
+	/// every output corner's source a corner of its superface), not the level's cells'.
+	bool keepSuperfaces = false;
 };
 
 /// What stopped a reduction short of its budget.
@@ -38,6 +43,7 @@ struct ReduceReport {
 	size_t lockedVertices = 0; ///< vertices no collapse may remove (delimiter junctions, locked
 	                           ///< input vertices, where boundary loops touch)
 	double maxTexError = -1; ///< with texture coordinates: the largest UV error bound of a triangle
+	double texErrorLimit = 0; ///< the texture limit at the end (a soft one may have grown)
 };
 
 /// The input (the mesh the levels are built on) as a collapse source: every valid triangle its
