@@ -120,7 +120,10 @@ def main():
         for key, what in (("wedge_uvs", "wedge texture coordinate"),
                           ("vertex_uvs", "vertex texture coordinate")):
             pool = inp["wedge_uvs"] + inp["vertex_uvs"]
-            if out[key] and pool:
+            # (a level continued by collapses, DESIGN 51, places vertices where the quadric is
+            # least, with the coordinates the input surface has there: new values, its texture
+            # error reported and checked below)
+            if out[key] and pool and not r.get("reduced"):
                 miss = near(out[key], pool, a.uv_tolerance, 2)
                 check(not miss, f"{lv}: every {what} ({len(out[key])} distinct) is an input's" +
                       (f" (within {a.uv_tolerance})" if a.uv_tolerance else "") +

@@ -198,7 +198,10 @@ for recs in (run1, run2, stored):
         assert l['levels_by'] == 'faces' and l['target_error_pct'] is None, l
         assert l['target_faces'] == want[l['level']] and l['target_reached'] is True, l
         assert 0 < l['faces'] <= l['target_faces'], l
-        assert l['tolerance_pct'] > 0 and 1 <= l['trials'] <= 11, l
+        # (a superface level searched its tolerance; a level made by collapses after one that
+        # was, DESIGN 51, builds none: 0 trials)
+        assert (l['tolerance_pct'] > 0 and 1 <= l['trials'] <= 11) or \
+            (l['reduced'] and l['trials'] == 0), l
     # error:0.05%,0.2% of the cow: LOD1 0.05 %, LOD0 0.2 %, each within its tolerance
     want = {1: 0.05, 0: 0.2}
     assert [l['level'] for l in cow['levels']] == [1, 0], cow
@@ -206,7 +209,7 @@ for recs in (run1, run2, stored):
         assert all(k in l for k in target), l
         assert l['levels_by'] == 'error' and l['target_faces'] is None, l
         assert abs(l['target_error_pct'] - want[l['level']]) < 1e-9, l
-        assert l['target_reached'] is True and l['trials'] == 1, l
+        assert l['target_reached'] is True and l['trials'] in (0, 1), l
         assert 0 < l['distance_bound_pct'] <= l['target_error_pct'] + 1e-4, l
     # angle (the default): the target members are there, null
     assert len(joint['levels']) == 5, joint

@@ -29,7 +29,10 @@ for r in rows:
     assert faces == r["faces"] <= r["target_faces"], (r["level"], faces, r["faces"])
     assert r["target_reached"] is True, r
     assert faces > 0.8 * r["target_faces"], (r["level"], faces)  # as many as fit
-    assert 1 <= r["trials"] <= 11 and r["tolerance_pct"] > 0, r
+    # (a superface level searched its tolerance; after a level made by collapses the next ones
+    # build none, DESIGN 51: 0 trials)
+    assert (1 <= r["trials"] <= 11 and r["tolerance_pct"] > 0) or \
+        (r["reduced"] and r["trials"] == 0), r
 PY
 then pass "faces:50%,...,2%: every fandisk level within its budget (files counted)"
 else fail "faces %: $(cat "$work/pct.txt")"; fi
@@ -75,7 +78,7 @@ for r in rows:
     assert r["levels_by"] == "error" and r["target_faces"] is None, r
     assert abs(r["target_error_pct"] - want[r["level"]]) < 1e-9, r
     assert 0 < r["distance_bound_pct"] <= r["target_error_pct"] + 1e-4, r
-    assert r["target_reached"] is True and r["trials"] == 1, r
+    assert r["target_reached"] is True and r["trials"] in (0, 1), r
 PY
 then pass "error:0.2%,0.01%,0.05%: every cow level within its tolerance"
 else fail "error: $(cat "$work/err.txt")"; fi

@@ -340,6 +340,12 @@ struct LevelMesh {
 	/// With MeshView::wantSources: per output face, an input face of its superface (with keys,
 	/// every face of a superface has the same faceKey).
 	std::vector<int32_t> sourceFace;
+	/// With MeshView::cornerUV, when a level continued by collapses (LevelStats::reduced) gave a
+	/// corner texture coordinates no input corner has (a junction of seams collapsed: the chart
+	/// that lost its corner there extends its own mapping to the vertex that took it): two per
+	/// output corner (u, v), for every corner; empty otherwise (each corner's are its source
+	/// corner's). The corner's source corner is then the removed vertex's corner of that chart.
+	std::vector<float> cornerUV;
 	/// With the distance tolerance: per superface, its proven distance bound (mesh units; the
 	/// level's LevelStats::distanceBound is the largest). What a coarser level's collapses
 	/// start from (DESIGN 50).

@@ -311,8 +311,12 @@ void toVcgMeshWithAttributes(const LevelMesh &level, const FlatMesh &flat, const
 	}
 	auto vi = vcg::tri::Allocator<OutT>::AddVertices(out, levelVertex.size());
 	std::vector<int32_t> origin(levelVertex.size()); // an input (flat) vertex of each output one
-	for (size_t c = 0; c < 3 * nf; ++c)
+	std::vector<size_t> originCorner(levelVertex.size()); // (and a level corner of it)
+	for (size_t c = 0; c < 3 * nf; ++c) {
 		origin[size_t(corner[c])] = flat.triangles[size_t(level.sourceCorner[c])];
+		originCorner[size_t(corner[c])] = c;
+	}
+	const bool newUV = level.cornerUV.size() == 2 * level.triangles.size();
 	for (size_t i = 0; i < levelVertex.size(); ++i, ++vi) {
 		const double *p = &level.positions[3 * size_t(levelVertex[i])];
 		vi->P() = typename OutT::CoordType(p[0], p[1], p[2]);
@@ -321,8 +325,13 @@ void toVcgMeshWithAttributes(const LevelMesh &level, const FlatMesh &flat, const
 			vi->C() = v.cC();
 		if (attrs.vertQuality)
 			vi->Q() = v.cQ();
-		if (attrs.vertTexCoord)
+		if (attrs.vertTexCoord) {
 			vi->T() = v.cT();
+			if (newUV) { // (a corner with new coordinates has its own source: its own vertex)
+				vi->T().U() = level.cornerUV[2 * originCorner[i]];
+				vi->T().V() = level.cornerUV[2 * originCorner[i] + 1];
+			}
+		}
 	}
 	auto fi = vcg::tri::Allocator<OutT>::AddFaces(out, nf);
 	for (size_t f = 0; f < nf; ++f, ++fi) {
@@ -332,6 +341,10 @@ void toVcgMeshWithAttributes(const LevelMesh &level, const FlatMesh &flat, const
 			if (attrs.wedgeTexCoord) {
 				const int32_t sc = level.sourceCorner[3 * f + size_t(k)];
 				fi->WT(k) = in.face[size_t(flat.faceIndex[size_t(sc / 3)])].cWT(sc % 3);
+				if (newUV) { // (the level's own coordinates)
+					fi->WT(k).U() = level.cornerUV[2 * (3 * f + size_t(k))];
+					fi->WT(k).V() = level.cornerUV[2 * (3 * f + size_t(k)) + 1];
+				}
 			}
 			if (markFauxEdges) {
 				if (level.borderEdges[f] & (1u << k))

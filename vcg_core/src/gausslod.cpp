@@ -548,9 +548,12 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			const auto tl = std::chrono::steady_clock::now();
 			if (!report(0.05 + 0.95 * double(finest - level) / params.maxLevel, "building level"))
 				return false;
+			// DESIGN 51: levels by target, once a level was made by collapses, are made by
+			// collapses (the superfaces of a coarser level would not reach the target either)
+			const bool superfaces = byAngle || level == finest || !chainCollapsed;
 			// (DESIGN 38: the finer level carried whole tells which superfaces touch; if none
 			// of them could be grouped or merged here, the partition is the finer one's)
-			if (level < finest &&
+			if (superfaces && level < finest &&
 			    !(byAngle && carry.whole &&
 			      sameCoarserPartition(parts[size_t(level) + 1],
 			                           superfacePairs(finer.triangles, finer.superface),
@@ -571,12 +574,18 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			    parts[size_t(level)].label == parts[size_t(level) + 1].label &&
 			    !tighter(levelLimits(params, topo.diagonal, level, topo.UV != nullptr),
 			             levelLimits(params, topo.diagonal, level + 1, topo.UV != nullptr));
-			const bool share = level < finest && tolerance > 0 && !sameAsFiner;
+			const bool share = superfaces && level < finest && tolerance > 0 && !sameAsFiner;
 			if (share)
 				triangleShare(byFaces ? levelPart : parts[size_t(level) + 1], finer, finerCost);
 			const size_t faceLimit = level < finest ? finer.stats.faces : SIZE_MAX;
 			const size_t target = byFaces ? faceTarget(params, level, full.faceCount) : 0;
-			if (sameAsFiner) {
+			if (!superfaces) { // (no build: the collapses make the level)
+				lm.stats.level = level;
+				lm.stats.boundDeg = levelBoundDeg(level);
+				lm.stats.faces = SIZE_MAX;
+				lm.stats.trials = 0;
+				lm.stats.tolerance = byFaces ? 0.0 : tolerance;
+			} else if (sameAsFiner) {
 				takeFinerMesh(mesh, parts[size_t(level)].label, finer, finerPlaced, lm);
 				lm.stats.level = level;
 				lm.stats.boundDeg = levelBoundDeg(level);
@@ -600,7 +609,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			lm.stats.secondsPartition = partitionSeconds;
 			// (a coarser level must be lighter than the finer one; in angle mode, if it is farther
 			// from the input, by at least kMinLevelSaving)
-			if (level < finest && !sameAsFiner &&
+			if (superfaces && level < finest && !sameAsFiner &&
 			    (lm.stats.faces > finer.stats.faces ||
 			     (byAngle && lm.stats.distanceBound > finer.stats.distanceBound &&
 			      double(lm.stats.faces) > (1 - kMinLevelSaving) * double(finer.stats.faces)))) {
@@ -612,7 +621,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			// chain; before the finest level, the input) by edge collapses
 			const auto tc = std::chrono::steady_clock::now();
 			// (a level that is its finer level's mesh took `finer`: no superface build)
-			const bool superfaceBuilt = !(sameAsFiner || lm.stats.reusedFiner);
+			const bool superfaceBuilt = superfaces && !(sameAsFiner || lm.stats.reusedFiner);
 			CollapseSource collapsed;
 			bool takeCollapsed = false;
 			auto needChain = [&] { // (makes `chain` the level delivered before this one)
@@ -670,7 +679,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			// quadric placement where the superfaces do not get there
 			ReduceLimits rl;
 			rl.level = level;
-			rl.placement = topo.UV == nullptr;
+			rl.placement = true;
 			bool reduce = false;
 			if (!byAngle) {
 				reduce = true;

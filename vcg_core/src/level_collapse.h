@@ -45,10 +45,10 @@ NormalCone mergeCones(const NormalCone &a, const NormalCone &b);
 double farthestInputVertex(const Topology &t, const LevelMesh &level, double within,
                            size_t threads);
 
-/// The level's normal deviation, measured: for every valid input face, the angle between its
-/// normal and that of the level's triangle nearest its centroid (looked for within the level's
-/// distance bound): the largest into stats.maxNormalDevDeg, the area-weighted mean into
-/// stats.meanNormalDevDeg.
+/// The level's normal deviation, measured: for the valid input faces (every k-th, at most 16,384
+/// of them), the angle between its normal and that of the level's triangle nearest its centroid
+/// (looked for within the level's distance bound): the largest into stats.maxNormalDevDeg, the
+/// area-weighted mean into stats.meanNormalDevDeg.
 void measureNormalDeviation(const Topology &t, LevelMesh &level, size_t threads);
 
 } // namespace detail

@@ -61,9 +61,11 @@ constexpr int kMaxRing = 32;          // a vertex with more triangles around it 
 constexpr double kFacing = 1e-3;      // cos of the steepest triangle allowed against the patch
 constexpr double kFacingCells = 3;    // the thin-part test's reach, in face-grid cells
 constexpr double kBorderWeight = 1.0; // boundary and delimiter planes, per squared edge length
-constexpr double kMaxTexLimit = 1.0;  // a soft texture limit doubles up to this (UV units)
+constexpr double kOverTexLimit = 1e3; // beyond a soft texture limit: cost + this x the diagonal
 
-enum Kind : uint8_t { kFree, kBoundary, kSeam, kFixed, kGone };
+// (kJunction: where delimiters meet or one ends. Where a face count is asked, seams and junctions
+// also move across charts: a chart that loses its corner extends its mapping to the kept vertex)
+enum Kind : uint8_t { kFree, kBoundary, kSeam, kJunction, kFixed, kGone };
 
 // Operations: full collapses with the kept vertex at the quadric's least, the edge's middle, or
 // either end; half-edge collapses a -> b and b -> a.
@@ -124,6 +126,12 @@ struct Plan {
 	int32_t dead[2];
 	int nDead = 0;
 	int32_t keptCorner[2] = {-1, -1}; // (half: u's corners in the two dead triangles)
+	// (with sources: per new triangle, the source corner and texture coordinates its corner at
+	// the kept vertex takes)
+	int32_t newSrc[PatchCase::kMaxTris];
+	float newUV[PatchCase::kMaxTris][2];
+	bool extended[PatchCase::kMaxTris]; // (its chart's mapping extended to the kept vertex)
+	bool overTexLimit = false;          // (beyond a soft texture limit)
 	PatchProof proof;
 	double bound[PatchCase::kMaxTris];
 	double uvBound[PatchCase::kMaxTris];
@@ -176,8 +184,12 @@ private:
 	bool plan(int32_t a, int32_t b, int op, const Vec3 &pos, Plan &pl) const;
 	double slop() const { return 1e-12 * t_.diagonal; }
 	bool check(Plan &pl) const;
-	bool keys_ = false;
-	double texLimit_ = lim_.texError;
+	// (seams and junctions move across charts where a face count is asked: their cost counts the
+	// texture's shift, so the collapses along seams go first)
+	bool checkFacing_ = true;
+	bool keys_ = false, allowJunctions_ = lim_.faces > 0 && !lim_.keepSuperfaces;
+	std::vector<float> uv_; // (with texture coordinates: 2 per corner)
+	void wedges(Plan &pl) const;
 	int32_t superfaceOf(int32_t f) // (keepSuperfaces: the root of f's merged source superface)
 	{
 		int32_t x = sf_[size_t(f)];
@@ -190,10 +202,10 @@ private:
 	uint8_t kindOf(int32_t v) const;
 	bool facesInput(const Plan &pl) const;
 	bool textureError(Plan &pl) const;
+	double uvLocal(const Plan &pl) const;
+	double textureShift(const Plan &pl) const;
 	/// The cost of a collapse whose quadric error is q and whose largest gap is g.
 	double cost(int32_t a, int32_t b, double g, double q) const;
-	/// The gap of an operation (HUGE_VAL if it is not possible).
-	double gapOf(int32_t a, int32_t b, int op, const Vec3 &pos) const;
 	void apply(const Plan &pl);
 	void prune(int32_t v);
 	void write(CollapseSource &out, ReduceReport &report);
@@ -317,6 +329,14 @@ void Reducer::setUp()
 	}
 	uvErr_ = src_.uvError.size() == nT ? src_.uvError : std::vector<float>(nT, 0.0f);
 	fwd_.assign(nT, -1);
+	if (t_.UV && !srcC_.empty()) { // (a level's own coordinates, or its corners' sources')
+		uv_.resize(6 * nT);
+		const bool own = sm.cornerUV.size() == 6 * nT;
+		for (size_t c = 0; c < 3 * nT; ++c)
+			for (int k = 0; k < 2; ++k)
+				uv_[2 * c + size_t(k)] =
+				    own ? sm.cornerUV[2 * c + size_t(k)] : t_.UV[2 * size_t(srcC_[c]) + size_t(k)];
+	}
 	stamp_.assign(nV, 0);
 	blocked_.assign(nV, 0);
 	// delimiters: an edge whose two triangles differ in face key, or in corner key at an end
@@ -399,7 +419,7 @@ uint8_t Reducer::kindOf(int32_t v) const
 		delimiters += dlm_[size_t(r.corner[i])];
 	if (!r.closed) // (the last edge, nb[n] -> v, is a boundary edge: no delimiter)
 		return delimiters == 0 ? kBoundary : kFixed;
-	return delimiters == 0 ? kFree : delimiters == 2 ? kSeam : kFixed;
+	return delimiters == 0 ? kFree : delimiters == 2 ? kSeam : kJunction;
 }
 
 bool Reducer::edgeFlags(int32_t a, int32_t b, bool &boundaryEdge, bool &delimiterEdge) const
@@ -437,8 +457,10 @@ bool Reducer::allowed(int32_t a, int32_t b, int op, bool boundaryEdge, bool deli
 		return !boundaryEdge;
 	case kBoundary:
 		return boundaryEdge;
-	case kSeam:
-		return delimiterEdge && !boundaryEdge;
+	case kSeam: // (along its seam; where a count needs it, across: its charts follow)
+		return (delimiterEdge || allowJunctions_) && !boundaryEdge;
+	case kJunction:
+		return allowJunctions_ && !boundaryEdge;
 	default:
 		return false;
 	}
@@ -484,44 +506,37 @@ double Reducer::cost(int32_t a, int32_t b, double g, double q) const
 	return g + (w > 0 ? std::sqrt(std::max(0.0, q) / w) : 0.0);
 }
 
-double Reducer::gapOf(int32_t a, int32_t b, int op, const Vec3 &pos) const
-{
-	Plan pl;
-	if (!plan(a, b, op, pos, pl) || !provePatch(pl.pc, kFacing, slop(), pl.proof, false))
-		return HUGE_VAL;
-	double g = 0;
-	for (int i = 0; i < pl.pc.nNew; ++i)
-		g = std::max(g, pl.proof.gap[i]);
-	return g;
-}
-
 bool Reducer::bestOp(int32_t a, int32_t b, uint8_t tried, Entry &e) const
 {
 	bool boundaryEdge, delimiterEdge;
 	if (!edgeFlags(a, b, boundaryEdge, delimiterEdge))
 		return false;
-	// the operation: the least quadric error; its cost: with the gap it makes
-	for (;;) {
-		int best = -1;
-		double bestQ = 0;
-		Vec3 pos;
-		for (int op = 0; op < kOps; ++op) {
-			if ((tried >> op & 1) || !allowed(a, b, op, boundaryEdge, delimiterEdge))
-				continue;
-			Vec3 p;
-			const double q = opCost(a, b, op, p);
-			if (best < 0 || q < bestQ)
-				best = op, bestQ = q, pos = p;
-		}
-		if (best < 0)
-			return false;
-		const double g = gapOf(a, b, best, pos);
-		if (g < HUGE_VAL) {
-			e = {cost(a, b, g, bestQ), a, b, stamp_[size_t(a)], stamp_[size_t(b)], uint8_t(best), tried};
-			return true;
-		}
-		tried = uint8_t(tried | 1u << best);
+	// the operation: the least quadric error; its key: the cost with the gap it makes now
+	int best = -1;
+	double bestQ = 0;
+	Vec3 pos;
+	for (int op = 0; op < kOps; ++op) {
+		if ((tried >> op & 1) || !allowed(a, b, op, boundaryEdge, delimiterEdge))
+			continue;
+		Vec3 p;
+		const double q = opCost(a, b, op, p);
+		if (best < 0 || q < bestQ)
+			best = op, bestQ = q, pos = p;
 	}
+	if (best < 0)
+		return false;
+	Plan pl; // (the collapse's gap as the neighbourhood is now: checked again when it comes up)
+	double g = 0;
+	if (plan(a, b, best, pos, pl) && provePatch(pl.pc, kFacing, slop(), pl.proof, false)) {
+		for (int i = 0; i < pl.pc.nNew; ++i)
+			g = std::max(g, pl.proof.gap[i]);
+		if (!uv_.empty()) { // (with texture coordinates: the texture's shift counts as a gap)
+			wedges(pl);
+			g += textureShift(pl);
+		}
+	}
+	e = {cost(a, b, g, bestQ), a, b, stamp_[size_t(a)], stamp_[size_t(b)], uint8_t(best), tried};
+	return true;
 }
 
 void Reducer::pushEdges(int32_t v)
@@ -618,12 +633,13 @@ bool Reducer::planHalf(int32_t v, int32_t u, Plan &pl) const
 				return q;
 		return int32_t(-1);
 	};
-	// u's neighbours (the link condition)
-	int32_t nbU[4 * kMaxRing];
+	// u's neighbours (the link condition; u may have more triangles than a removed vertex)
+	constexpr int kMaxNbU = 512;
+	int32_t nbU[kMaxNbU];
 	int nNbU = 0;
 	for (int32_t q = head_[size_t(u)]; q >= 0; q = next_[size_t(q)])
 		if (alive_[size_t(heFace(q))]) {
-			if (nNbU + 2 > 4 * kMaxRing)
+			if (nNbU + 2 > kMaxNbU)
 				return false;
 			nbU[nNbU++] = T_[size_t(heNext(q))];
 			nbU[nNbU++] = T_[size_t(hePrev(q))];
@@ -724,7 +740,7 @@ bool Reducer::check(Plan &pl) const
 				if (angleDeg(nt, k.axis) + k.half > lim_.normalDeg)
 					return false;
 			}
-			if (s == pl.newId[i]) { // (the triangle it replaces: not turned over)
+			if (s == pl.newId[i] && checkFacing_) { // (the triangle it replaces: not turned over)
 				Vec3 ns = normal(s);
 				if (nt.dot(ns) < 0)
 					return false;
@@ -734,6 +750,8 @@ bool Reducer::check(Plan &pl) const
 		if (pl.bound[i] > lim_.bound)
 			return false;
 	}
+	if (!srcC_.empty())
+		wedges(pl);
 	return textureError(pl);
 }
 
@@ -787,15 +805,79 @@ bool Reducer::textureError(Plan &pl) const
 	const PatchCase &c = pl.pc;
 	for (int i = 0; i < c.nNew; ++i)
 		pl.uvBound[i] = 0;
-	if (!t_.UV || pl.full || srcC_.empty())
+	if (uv_.empty())
 		return true;
-	// at the removed vertex, on each side of a seam: its own coordinates against those the new
-	// triangles of that side show at their point nearest it
-	const float *UV = t_.UV;
-	const Vec3 &pv = P_[size_t(pl.gone)];
-	double nearest[2] = {HUGE_VAL, HUGE_VAL}, err[2] = {0, 0};
-	int side = 0;
+	const double local = uvLocal(pl);
+	pl.overTexLimit = false;
 	for (int i = 0; i < c.nNew; ++i) {
+		double worst = 0;
+		for (int j = 0; j < c.nOld; ++j)
+			if (pl.proof.under[i] >> j & 1)
+				worst = std::max(worst, double(uvErr_[size_t(pl.oldId[j])]));
+		pl.uvBound[i] = worst + local;
+		if (lim_.texError > 0 && pl.uvBound[i] > lim_.texError) {
+			if (!lim_.texErrorSoft)
+				return false;
+			pl.overTexLimit = true; // (ordered after every collapse within it)
+		}
+	}
+	return true;
+}
+
+double Reducer::uvLocal(const Plan &pl) const
+{
+	const PatchCase &c = pl.pc;
+	// at a removed vertex, in each chart around it: its own coordinates against those the new
+	// triangles of that chart show at their point nearest it
+	double local = 0;
+	if (pl.full) // (free vertices, one chart: both ends)
+		for (const int32_t w : {pl.gone, pl.kept}) {
+			int32_t cw = -1;
+			for (int32_t q = 3 * pl.dead[0]; q < 3 * pl.dead[0] + 3; ++q)
+				if (T_[size_t(q)] == w)
+					cw = q;
+			double nearest = HUGE_VAL, err = 0;
+			for (int i = 0; i < c.nNew; ++i) {
+				const Vec3 &a = c.pos[c.newTri[i][0]], &b = c.pos[c.newTri[i][1]],
+				           &d = c.pos[c.newTri[i][2]];
+				const double d2 = pointTriangleDistance2(P_[size_t(w)], a, b, d);
+				if (d2 >= nearest)
+					continue;
+				nearest = d2;
+				double l[3];
+				nearestBarycentric(P_[size_t(w)], a, b, d, l[0], l[1], l[2]);
+				// (the new triangle's corners: its kept-vertex corner's are the new ones)
+				const int32_t f = pl.newId[i];
+				double uv[3][2];
+				for (int k = 0; k < 3; ++k) {
+					const int8_t pt = c.newTri[i][k];
+					int32_t q = -1;
+					for (int32_t r = 3 * f; r < 3 * f + 3 && pt != c.newInner; ++r)
+						if (T_[size_t(r)] == pl.point[pt])
+							q = r;
+					for (int m = 0; m < 2; ++m)
+						uv[k][m] = pt == c.newInner || q < 0 ? pl.newUV[i][m]
+						                                     : uv_[2 * size_t(q) + size_t(m)];
+				}
+				const double du = l[0] * uv[0][0] + l[1] * uv[1][0] + l[2] * uv[2][0] -
+				                  uv_[2 * size_t(cw)];
+				const double dv = l[0] * uv[0][1] + l[1] * uv[1][1] + l[2] * uv[2][1] -
+				                  uv_[2 * size_t(cw) + 1];
+				err = std::sqrt(du * du + dv * dv);
+			}
+			local = std::max(local, err);
+		}
+	// (a chart extended to the kept vertex reaches beyond its island by this much)
+	for (int i = 0; i < c.nNew && !pl.full; ++i)
+		if (pl.extended[i])
+			for (int32_t q = 3 * pl.newId[i]; q < 3 * pl.newId[i] + 3; ++q)
+				if (T_[size_t(q)] == pl.gone)
+					local = std::max(local, double(std::hypot(pl.newUV[i][0] - uv_[2 * size_t(q)],
+					                                          pl.newUV[i][1] - uv_[2 * size_t(q) + 1])));
+	const Vec3 &pv = P_[size_t(pl.gone)];
+	double nearest = HUGE_VAL, err = 0;
+	int chart = 0;
+	for (int i = 0; i < c.nNew && !pl.full; ++i) {
 		const int32_t f = pl.newId[i];
 		int32_t cv = -1;
 		for (int32_t q = 3 * f; q < 3 * f + 3; ++q)
@@ -803,38 +885,135 @@ bool Reducer::textureError(Plan &pl) const
 				cv = q;
 		if (cv < 0)
 			continue;
-		if (dlm_[size_t(cv)])
-			side = 1;
+		if (dlm_[size_t(cv)]) { // (the next chart)
+			local = std::max(local, err);
+			nearest = HUGE_VAL, err = 0, ++chart;
+		}
 		Vec3 p[3];
 		double uv[3][2];
 		for (int k = 0; k < 3; ++k) {
 			const int32_t q = 3 * f + k;
-			const int32_t src = q == cv ? srcC_[size_t(pl.keptCorner[side])] : srcC_[size_t(q)];
 			p[k] = q == cv ? P_[size_t(pl.kept)] : P_[size_t(T_[size_t(q)])];
-			uv[k][0] = UV[2 * size_t(src)], uv[k][1] = UV[2 * size_t(src) + 1];
+			for (int j = 0; j < 2; ++j)
+				uv[k][j] = q == cv ? pl.newUV[i][j] : uv_[2 * size_t(q) + size_t(j)];
 		}
 		const double d2 = pointTriangleDistance2(pv, p[0], p[1], p[2]);
-		if (d2 >= nearest[side])
+		if (d2 >= nearest)
 			continue;
-		nearest[side] = d2;
+		nearest = d2;
 		double l[3];
 		nearestBarycentric(pv, p[0], p[1], p[2], l[0], l[1], l[2]);
-		const size_t own = size_t(srcC_[size_t(cv)]);
-		const double du = l[0] * uv[0][0] + l[1] * uv[1][0] + l[2] * uv[2][0] - UV[2 * own];
-		const double dv = l[0] * uv[0][1] + l[1] * uv[1][1] + l[2] * uv[2][1] - UV[2 * own + 1];
-		err[side] = std::sqrt(du * du + dv * dv);
+		const double du = l[0] * uv[0][0] + l[1] * uv[1][0] + l[2] * uv[2][0] - uv_[2 * size_t(cv)];
+		const double dv =
+		    l[0] * uv[0][1] + l[1] * uv[1][1] + l[2] * uv[2][1] - uv_[2 * size_t(cv) + 1];
+		err = std::sqrt(du * du + dv * dv);
 	}
-	const double local = std::max(err[0], err[1]);
+	return std::max(local, err);
+}
+
+double Reducer::textureShift(const Plan &pl) const
+{
+	// the texture error at the removed vertices in mesh units: UV units times the old patch's
+	// length per UV unit (the square root of its area over its area in texture space)
+	double a3 = 0, a2 = 0;
+	for (int j = 0; j < pl.pc.nOld; ++j) {
+		const size_t f = size_t(pl.oldId[j]);
+		a3 += normal(int32_t(f)).Norm();
+		const float *t = &uv_[6 * f];
+		a2 += std::fabs((t[2] - t[0]) * (t[5] - t[1]) - (t[3] - t[1]) * (t[4] - t[0]));
+	}
+	return a2 > 0 ? uvLocal(pl) * std::sqrt(a3 / a2) : 0.0;
+}
+
+void Reducer::wedges(Plan &pl) const
+{
+	const PatchCase &c = pl.pc;
+	auto setFrom = [&](int i, int32_t corner) {
+		pl.extended[i] = false;
+		pl.newSrc[i] = srcC_[size_t(corner)];
+		for (int k = 0; k < 2; ++k)
+			pl.newUV[i][k] = uv_.empty() ? 0.0f : uv_[2 * size_t(corner) + size_t(k)];
+	};
+	if (pl.full) { // (free vertices: one chart; the attributes of the end nearer the new position)
+		const Vec3 iu(&mesh_.positions[3 * size_t(srcV_[size_t(pl.kept)])]);
+		const Vec3 iv(&mesh_.positions[3 * size_t(srcV_[size_t(pl.gone)])]);
+		const int32_t from =
+		    (iv - pl.pos).SquaredNorm() < (iu - pl.pos).SquaredNorm() ? pl.gone : pl.kept;
+		int32_t corner = -1;
+		for (int32_t q = 3 * pl.dead[0]; q < 3 * pl.dead[0] + 3; ++q)
+			if (T_[size_t(q)] == from)
+				corner = q;
+		for (int i = 0; i < c.nNew; ++i)
+			setFrom(i, corner);
+		if (!uv_.empty()) { // (the coordinates the old patch has at its point nearest the new one)
+			double best = HUGE_VAL;
+			for (int j = 0; j < c.nOld; ++j) {
+				const int32_t f = pl.oldId[j];
+				const Vec3 &a = P_[size_t(T_[3 * size_t(f)])], &b = P_[size_t(T_[3 * size_t(f) + 1])],
+				           &d = P_[size_t(T_[3 * size_t(f) + 2])];
+				const double d2 = pointTriangleDistance2(pl.pos, a, b, d);
+				if (d2 >= best)
+					continue;
+				best = d2;
+				double l[3];
+				nearestBarycentric(pl.pos, a, b, d, l[0], l[1], l[2]);
+				for (int k = 0; k < 2; ++k) {
+					double x = 0;
+					for (int m = 0; m < 3; ++m)
+						x += l[m] * uv_[2 * (3 * size_t(f) + size_t(m)) + size_t(k)];
+					for (int i = 0; i < c.nNew; ++i)
+						pl.newUV[i][k] = float(x);
+				}
+			}
+		}
+		return;
+	}
+	// half: the charts around v in ring order, split by its delimiters (the edge v -> nb[j] opens
+	// the chart of face j); the first (with dead face 0) and the last (with the other dead face,
+	// the first again if the edge v-u parts no charts) have u's corners; a chart between them
+	// extends its mapping to u
+	auto cornerOfGone = [&](int32_t f) {
+		for (int32_t q = 3 * f; q < 3 * f + 3; ++q)
+			if (T_[size_t(q)] == pl.gone)
+				return q;
+		return int32_t(-1);
+	};
+	int last = 0;
+	for (int i = 0; i < c.nNew; ++i)
+		last += dlm_[size_t(cornerOfGone(pl.newId[i]))];
+	if (pl.nDead == 2)
+		last += dlm_[size_t(cornerOfGone(pl.dead[1]))];
+	int chart = 0;
 	for (int i = 0; i < c.nNew; ++i) {
-		double worst = 0;
-		for (int j = 0; j < c.nOld; ++j)
-			if (pl.proof.under[i] >> j & 1)
-				worst = std::max(worst, double(uvErr_[size_t(pl.oldId[j])]));
-		pl.uvBound[i] = worst + local;
-		if (texLimit_ > 0 && pl.uvBound[i] > texLimit_)
-			return false;
+		const int32_t f = pl.newId[i];
+		const int32_t cv = cornerOfGone(f);
+		chart += dlm_[size_t(cv)];
+		if (chart == 0) {
+			setFrom(i, pl.keptCorner[0]);
+		} else if (chart == last) {
+			setFrom(i, pl.keptCorner[1]);
+		} else { // (v's corner of this chart, its mapping extended to u's position)
+			pl.extended[i] = true;
+			pl.newSrc[i] = srcC_[size_t(cv)];
+			const int32_t q1 = heNext(cv), q2 = hePrev(cv);
+			const Vec3 &p0 = P_[size_t(pl.gone)], &p1 = P_[size_t(T_[size_t(q1)])],
+			           &p2 = P_[size_t(T_[size_t(q2)])];
+			const Vec3 e1 = p1 - p0, e2 = p2 - p0, d = P_[size_t(pl.kept)] - p0;
+			const double a11 = e1.dot(e1), a12 = e1.dot(e2), a22 = e2.dot(e2);
+			const double det = a11 * a22 - a12 * a12;
+			double x = 0, y = 0;
+			if (det > 0) {
+				x = (a22 * d.dot(e1) - a12 * d.dot(e2)) / det;
+				y = (a11 * d.dot(e2) - a12 * d.dot(e1)) / det;
+			}
+			for (int k = 0; k < 2; ++k) {
+				const double t0 = uv_.empty() ? 0 : uv_[2 * size_t(cv) + size_t(k)];
+				const double t1 = uv_.empty() ? 0 : uv_[2 * size_t(q1) + size_t(k)];
+				const double t2 = uv_.empty() ? 0 : uv_[2 * size_t(q2) + size_t(k)];
+				pl.newUV[i][k] = float(t0 + x * (t1 - t0) + y * (t2 - t0));
+			}
+		}
 	}
-	return true;
 }
 
 bool Reducer::facesInput(const Plan &pl) const
@@ -908,35 +1087,27 @@ void Reducer::apply(const Plan &pl)
 	}
 	// the kept vertex
 	Q_[size_t(u)] += Q_[size_t(v)];
-	int32_t keptSource[2] = {-1, -1};
 	if (pl.full) {
 		P_[size_t(u)] = pl.pos;
 		// (its attributes: those of the end whose input vertex is nearer)
 		const Vec3 iu(&mesh_.positions[3 * size_t(srcV_[size_t(u)])]);
 		const Vec3 iv(&mesh_.positions[3 * size_t(srcV_[size_t(v)])]);
-		const int32_t from = (iv - pl.pos).SquaredNorm() < (iu - pl.pos).SquaredNorm() ? v : u;
-		srcV_[size_t(u)] = srcV_[size_t(from)];
-		if (!srcC_.empty())
-			for (int32_t q = 3 * pl.dead[0]; q < 3 * pl.dead[0] + 3; ++q)
-				if (T_[size_t(q)] == from)
-					keptSource[0] = keptSource[1] = srcC_[size_t(q)];
-	} else if (!srcC_.empty()) {
-		keptSource[0] = srcC_[size_t(pl.keptCorner[0])];
-		keptSource[1] = srcC_[size_t(pl.keptCorner[1])];
+		srcV_[size_t(u)] =
+		    srcV_[size_t((iv - pl.pos).SquaredNorm() < (iu - pl.pos).SquaredNorm() ? v : u)];
 	}
-	// the new triangles: their corners at u or v become u's (on a seam, each side's)
-	int side = 0;
+	// the new triangles: their corners at u or v become u's (with sources: the wedge of u in
+	// their chart, wedges())
 	for (int i = 0; i < c.nNew; ++i) {
 		const int32_t f = pl.newId[i];
 		for (int32_t q = 3 * f; q < 3 * f + 3; ++q) {
 			const int32_t w = T_[size_t(q)];
-			if (w != u && w != v)
+			if (w != v && !(pl.full && w == u))
 				continue;
-			if (!pl.full && w == v && dlm_[size_t(q)])
-				side = 1; // (the ring crossed the seam: the other side's corner of u)
 			T_[size_t(q)] = u;
-			if (!srcC_.empty() && (pl.full || w == v))
-				srcC_[size_t(q)] = keptSource[side];
+			if (!srcC_.empty())
+				srcC_[size_t(q)] = pl.newSrc[i];
+			if (!uv_.empty())
+				uv_[2 * size_t(q)] = pl.newUV[i][0], uv_[2 * size_t(q) + 1] = pl.newUV[i][1];
 		}
 		e_[size_t(f)] = pl.bound[i];
 		devBound_[size_t(f)] = dev[i];
@@ -1035,18 +1206,22 @@ bool Reducer::run(CollapseSource &out, ReduceReport &report)
 					blocked_[size_t(top.a)] = blocked_[size_t(top.b)] = 1;
 				continue;
 			}
-			// (the neighbourhood may have changed since the cost was taken: a costlier collapse
-			// goes back in line)
+			// (the key is the cost when the neighbourhood was as it was: a collapse that now costs
+			// more than the next one goes back in line)
 			double g = 0;
 			for (int i = 0; i < pl.pc.nNew; ++i)
 				g = std::max(g, pl.proof.gap[i]);
-			const double now = cost(top.a, top.b, g, opCost(top.a, top.b, top.op, pos));
-			if (now > top.cost * (1 + 1e-9)) {
+			if (!uv_.empty())
+				g += textureShift(pl);
+			const double now = cost(top.a, top.b, g, opCost(top.a, top.b, top.op, pos)) +
+			                   (pl.overTexLimit ? kOverTexLimit * t_.diagonal : 0.0);
+			if (now > top.cost * (1 + 1e-9) && !heap_.empty() &&
+			    now > heap_.top().cost * (1 + 1e-9)) {
 				top.cost = now;
 				heap_.push(top);
 				continue;
 			}
-			if (!facesInput(pl)) {
+			if (checkFacing_ && !facesInput(pl)) {
 				blocked_[size_t(top.a)] = blocked_[size_t(top.b)] = 1;
 				continue;
 			}
@@ -1054,12 +1229,14 @@ bool Reducer::run(CollapseSource &out, ReduceReport &report)
 			++collapses_;
 		}
 		if (collapses_ == before) {
-			if (!(texLimit_ > 0 && texLimit_ < kMaxTexLimit && lim_.texErrorSoft))
+			// (stuck short of a face budget: only a true minimum may stop it, so the thin-part
+			// test and the turn-over guard give way; the proven bound still says what the level
+			// is)
+			if (!budget || !checkFacing_)
 				break;
-			texLimit_ *= 2; // (the budget needs more than the texture limit allows)
+			checkFacing_ = false;
 		}
 	}
-	report.texErrorLimit = texLimit_;
 	write(out, report);
 	return !more() || !budget;
 }
@@ -1156,6 +1333,8 @@ void Reducer::write(CollapseSource &out, ReduceReport &report)
 				o.sourceCorner.push_back(srcC_[c]);
 		}
 		o.borderEdges.push_back(border);
+		if (!uv_.empty())
+			o.cornerUV.insert(o.cornerUV.end(), &uv_[6 * f], &uv_[6 * f + 6]);
 		if (sources && sm.sourceFace.size() == nT)
 			o.sourceFace.push_back(sm.sourceFace[f]);
 		Vec3 n = normal(int32_t(f));
@@ -1173,6 +1352,14 @@ void Reducer::write(CollapseSource &out, ReduceReport &report)
 		out.bound.push_back(e_[f]);
 		out.cone.push_back(cone_[f]);
 		out.uvError.push_back(uvErr_[f]);
+	}
+	if (!o.cornerUV.empty()) { // (kept only where a corner's differ from its source corner's)
+		bool own = false;
+		for (size_t c = 0; c < o.sourceCorner.size() && !own; ++c)
+			own = o.cornerUV[2 * c] != t_.UV[2 * size_t(o.sourceCorner[c])] ||
+			      o.cornerUV[2 * c + 1] != t_.UV[2 * size_t(o.sourceCorner[c]) + 1];
+		if (!own)
+			release(o.cornerUV);
 	}
 	o.superfaceBound.assign(size_t(nextSf), 0.0f);
 	for (size_t f = 0; f < nT; ++f)
@@ -1238,6 +1425,7 @@ void Reducer::write(CollapseSource &out, ReduceReport &report)
 	report.collapses = collapses_;
 	report.lockedVertices = locked;
 	report.maxTexError = st.maxTexError;
+	report.texErrorLimit = std::max(lim_.texError, st.maxTexError); // (a soft one gave way)
 	report.minimumFaces = lim_.faces > 0 && st.faces > lim_.faces ? st.faces : 0;
 }
 

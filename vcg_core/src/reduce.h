@@ -26,8 +26,8 @@ struct ReduceLimits {
 	                          ///< for (>= 180: only the facing tests)
 	double texError = 0;      ///< with texture coordinates: every triangle's UV error bound at
 	                          ///< most this, UV units (0 = no limit)
-	bool texErrorSoft = false; ///< where the face budget cannot be reached within it, the limit
-	                           ///< doubles until it can (the collapses within it go first)
+	bool texErrorSoft = false; ///< the collapses beyond the limit still go, after every collapse
+	                           ///< within it (the face budget first)
 	bool placement = true;    ///< full collapses placed by the quadric (no texture coordinates)
 	int level = 0;            ///< Gauss-sphere level: the output's superfaces are its cells'
 	/// The output's superfaces are the source's, merged where a collapse joins them (DESIGN 50:
@@ -43,7 +43,7 @@ struct ReduceReport {
 	size_t lockedVertices = 0; ///< vertices no collapse may remove (delimiter junctions, locked
 	                           ///< input vertices, where boundary loops touch)
 	double maxTexError = -1; ///< with texture coordinates: the largest UV error bound of a triangle
-	double texErrorLimit = 0; ///< the texture limit at the end (a soft one may have grown)
+	double texErrorLimit = 0; ///< the limit, or the largest error if a soft one gave way
 };
 
 /// The input (the mesh the levels are built on) as a collapse source: every valid triangle its
