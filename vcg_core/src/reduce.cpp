@@ -204,6 +204,7 @@ private:
 	bool textureError(Plan &pl) const;
 	double uvLocal(const Plan &pl) const;
 	double textureShift(const Plan &pl) const;
+	double gapLowerBound(int32_t a, int32_t b, int op, const Vec3 &pos) const;
 	/// The cost of a collapse whose quadric error is q and whose largest gap is g.
 	double cost(int32_t a, int32_t b, double g, double q) const;
 	void apply(const Plan &pl);
@@ -511,7 +512,8 @@ bool Reducer::bestOp(int32_t a, int32_t b, uint8_t tried, Entry &e) const
 	bool boundaryEdge, delimiterEdge;
 	if (!edgeFlags(a, b, boundaryEdge, delimiterEdge))
 		return false;
-	// the operation: the least quadric error; its key: the cost with the gap it makes now
+	// the operation: the least quadric error; its key: the cost with a lower bound of the gap it
+	// makes (the cost itself is taken when the entry comes up: lazy evaluation)
 	int best = -1;
 	double bestQ = 0;
 	Vec3 pos;
@@ -525,18 +527,42 @@ bool Reducer::bestOp(int32_t a, int32_t b, uint8_t tried, Entry &e) const
 	}
 	if (best < 0)
 		return false;
-	Plan pl; // (the collapse's gap as the neighbourhood is now: checked again when it comes up)
-	double g = 0;
-	if (plan(a, b, best, pos, pl) && provePatch(pl.pc, kFacing, slop(), pl.proof, false)) {
-		for (int i = 0; i < pl.pc.nNew; ++i)
-			g = std::max(g, pl.proof.gap[i]);
-		if (!uv_.empty()) { // (with texture coordinates: the texture's shift counts as a gap)
-			wedges(pl);
-			g += textureShift(pl);
-		}
-	}
+	const double g = gapLowerBound(a, b, best, pos);
 	e = {cost(a, b, g, bestQ), a, b, stamp_[size_t(a)], stamp_[size_t(b)], uint8_t(best), tried};
 	return true;
+}
+
+double Reducer::gapLowerBound(int32_t a, int32_t b, int op, const Vec3 &pos) const
+{
+	// every proof's gap is at least the distance of a moved vertex from the other surface: of a
+	// removed vertex from the fan, and of the new vertex from the old triangles
+	const bool full = op < kHalfAB;
+	const int32_t gone = op == kHalfBA ? b : a, kept = op == kHalfBA ? a : b;
+	const Vec3 &target = full ? pos : P_[size_t(kept)];
+	double toOld = HUGE_VAL, fromGone = HUGE_VAL, fromKept = full ? HUGE_VAL : 0.0;
+	for (const int32_t w : {gone, kept}) {
+		if (w == kept && !full)
+			continue;
+		for (int32_t c = head_[size_t(w)]; c >= 0; c = next_[size_t(c)]) {
+			const int32_t f = heFace(c);
+			if (!alive_[size_t(f)])
+				continue;
+			const int32_t x = T_[size_t(heNext(c))], y = T_[size_t(hePrev(c))];
+			const Vec3 &px = P_[size_t(x)], &py = P_[size_t(y)];
+			if (full)
+				toOld = std::min(toOld, pointTriangleDistance2(pos, P_[size_t(w)], px, py));
+			if (x == gone || x == kept || y == gone || y == kept)
+				continue; // (on the collapsed edge: gone)
+			fromGone = std::min(fromGone, pointTriangleDistance2(P_[size_t(gone)], target, px, py));
+			if (full)
+				fromKept = std::min(fromKept, pointTriangleDistance2(P_[size_t(kept)], target, px, py));
+		}
+	}
+	double g = 0;
+	for (const double d2 : {toOld, fromGone, fromKept})
+		if (d2 < HUGE_VAL)
+			g = std::max(g, std::sqrt(d2));
+	return g;
 }
 
 void Reducer::pushEdges(int32_t v)
@@ -573,7 +599,7 @@ bool Reducer::planFull(int32_t u, int32_t v, const Vec3 &p, Plan &pl) const
 	if (nL < 3 || nL + 3 > PatchCase::kMaxPts || nu + nv - 2 > PatchCase::kMaxTris)
 		return false;
 	PatchCase &c = pl.pc;
-	c = PatchCase();
+	c.reset();
 	int n = 0;
 	for (int i = 1; i < nu; ++i)
 		pl.point[n++] = ru.nb[i];
@@ -625,7 +651,7 @@ bool Reducer::planHalf(int32_t v, int32_t u, Plan &pl) const
 	if (!ring(v, rv))
 		return false;
 	PatchCase &c = pl.pc;
-	c = PatchCase();
+	c.reset();
 	const int n = rv.n;
 	auto cornerOf = [&](int32_t f, int32_t w) {
 		for (int32_t q = 3 * f; q < 3 * f + 3; ++q)
@@ -1206,8 +1232,8 @@ bool Reducer::run(CollapseSource &out, ReduceReport &report)
 					blocked_[size_t(top.a)] = blocked_[size_t(top.b)] = 1;
 				continue;
 			}
-			// (the key is the cost when the neighbourhood was as it was: a collapse that now costs
-			// more than the next one goes back in line)
+			// (the key is a lower bound of the cost, or the cost when the neighbourhood was as it
+			// was: a collapse that now costs more than the next one goes back in line)
 			double g = 0;
 			for (int i = 0; i < pl.pc.nNew; ++i)
 				g = std::max(g, pl.proof.gap[i]);

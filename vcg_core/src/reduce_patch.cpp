@@ -168,11 +168,25 @@ bool proveByHeights(const PatchCase &c, double facing, double slop, bool under, 
 					w += turn(p2[o], p2[tri[i][(k + 1) % 3]], p2[tri[i][(k + 2) % 3]]);
 		return w;
 	};
+	// (a closed fan of triangles facing n around o winds as many times as its outer edges cross
+	// the ray from o along x upwards: once)
+	auto windsOnce = [&](int o, const int8_t(*tri)[3], int nTri) {
+		int crossings = 0;
+		for (int i = 0; i < nTri; ++i)
+			for (int k = 0; k < 3; ++k)
+				if (tri[i][k] == o) {
+					const double *a = p2[tri[i][(k + 1) % 3]], *b = p2[tri[i][(k + 2) % 3]];
+					if ((a[1] <= p2[o][1]) != (b[1] <= p2[o][1]) &&
+					    (a[1] <= p2[o][1] ? orient(a, b, p2[o]) > 0 : orient(a, b, p2[o]) < 0))
+						crossings += a[1] <= p2[o][1] ? 1 : -1;
+				}
+		return crossings == 1;
+	};
 	if (c.newInner >= 0) {
-		if (std::fabs(windAround(c.newInner, c.newTri, c.nNew) - 2 * M_PI) > kWinding)
+		if (!windsOnce(c.newInner, c.newTri, c.nNew))
 			return false;
 	} else if (!c.pocket) {
-		if (std::fabs(windAround(c.inner[0], c.oldTri, c.nOld) - 2 * M_PI) > kWinding)
+		if (!windsOnce(c.inner[0], c.oldTri, c.nOld))
 			return false;
 	} else {
 		const double w = windAround(c.inner[0], c.oldTri, c.nOld);

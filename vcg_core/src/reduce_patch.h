@@ -28,6 +28,12 @@ struct PatchCase {
 	int8_t newInner = -1;
 	bool pocket = false;
 	int8_t pocketA = -1, pocketB = -1;
+	void reset() // (the counts and flags: the arrays are filled up to them)
+	{
+		nPts = nOld = nNew = nInner = 0;
+		inner[0] = inner[1] = newInner = pocketA = pocketB = -1;
+		pocket = false;
+	}
 };
 
 /// What the proof gives: per new triangle its largest vertical gap to the old patch and the old
