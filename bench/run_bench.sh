@@ -42,4 +42,12 @@ fi
 cmake --build "$build" -j"$jobs" --target gausslod bench_gen bench_load bench_peers bench_metrics
 
 export BENCH_CMDLINE="bench/run_bench.sh${*:+ $*}"
-exec python3 "$here/run_bench.py" --build "$build" "$@"
+python3 "$here/run_bench.py" --build "$build" "$@"
+# the face budgets users ask for (issue 37): organic models and a textured scan, every peer at
+# our levels' counts -> BUDGETS.md beside RESULTS.md (not with --quick)
+case " $* " in
+  *" --quick "*) ;;
+  *) results=$root/bench/results prev=
+     for a in "$@"; do case $prev in --results) results=$a ;; esac; prev=$a; done
+     python3 "$here/budget_rows.py" --build "$build" --results "$results" ;;
+esac

@@ -534,8 +534,12 @@ std::string tableRow(const char *label, const gausslod::LevelStats &s, double di
 		else
 			std::snprintf(dist + n, sizeof dist - n, " %10s", "-");
 	}
-	std::snprintf(buf, sizeof buf, "%-6s %9zu %9zu %10zu %9zu %9.2f %9.2f %9.3f %8.3f%s", label,
-	              s.faces, s.vertices, s.superfaces, s.fallbacks, s.boundDeg, s.maxNormalDevDeg,
+	// (a level continued by collapses, DESIGN 51, is not held to its cells' bound: "-")
+	char bound[16] = "-";
+	if (!s.reduced)
+		std::snprintf(bound, sizeof bound, "%.2f", s.boundDeg);
+	std::snprintf(buf, sizeof buf, "%-6s %9zu %9zu %10zu %9zu %9s %9.2f %9.3f %8.3f%s", label,
+	              s.faces, s.vertices, s.superfaces, s.fallbacks, bound, s.maxNormalDevDeg,
 	              s.meanNormalDevDeg, s.seconds, dist);
 	return buf;
 }

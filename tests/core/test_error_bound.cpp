@@ -242,6 +242,23 @@ TEST(ErrorBound, never_below_the_sampled_distance_on_every_model)
 	            worst);
 }
 
+TEST(ErrorBound, holds_for_levels_made_by_collapses_at_budgets_and_errors)
+{
+	// DESIGN 51: each collapse's proof (heights over one plane, or triangle by triangle) adds its
+	// gap to the bounds of the triangles under the fan
+	size_t levels = 0;
+	double worst = 0;
+	for (const char *by : {"faces:50%,10%,2%", "error:0.05%,0.5%"}) {
+		Params prm;
+		std::string error;
+		ASSERT_TRUE(parseLevelsBy(by, prm, error)) << error;
+		for (const char *name : {"bull.off", "cow.off", "fandisk.off", "pig.off"})
+			checkBound(std::string(name) + " " + by, loadOff(name), prm, levels, worst);
+	}
+	EXPECT_EQ(levels, 4u * 5u);
+	std::printf("%zu levels by target: sampled distance / bound at most %.3f\n", levels, worst);
+}
+
 TEST(ErrorBound, holds_with_a_large_uniform_tolerance_and_on_a_noisy_cube)
 {
 	Params loose;

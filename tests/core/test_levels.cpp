@@ -297,10 +297,11 @@ TEST(Levels, papers_experiment_cow_and_dino_at_max_level_5)
 	for (const char *name : {"cow.off", "dino.off"}) {
 		const FlatMesh m = loadOff(name);
 		for (const bool across : {false, true}) {
-			Params p;      // (the defaults: merging across cells, the distance tolerance)
+			Params p;      // (the defaults: merging across cells, the distance tolerance, real steps)
 			if (!across) { // the paper's mode (gausslod_paper.mlx): its superfaces, normals only
 				p.acrossCells = false;
 				p.maxDistance = 0;
+				p.completeChain = false;
 			}
 			const Result r = buildLevels(m.view(), p);
 			ASSERT_TRUE(r.ok) << r.error;

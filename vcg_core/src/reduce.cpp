@@ -514,22 +514,28 @@ bool Reducer::bestOp(int32_t a, int32_t b, uint8_t tried, Entry &e) const
 		return false;
 	// the operation: the least quadric error; its key: the cost with a lower bound of the gap it
 	// makes (the cost itself is taken when the entry comes up: lazy evaluation)
-	int best = -1;
-	double bestQ = 0;
-	Vec3 pos;
-	for (int op = 0; op < kOps; ++op) {
-		if ((tried >> op & 1) || !allowed(a, b, op, boundaryEdge, delimiterEdge))
-			continue;
-		Vec3 p;
-		const double q = opCost(a, b, op, p);
-		if (best < 0 || q < bestQ)
-			best = op, bestQ = q, pos = p;
+	for (;;) {
+		int best = -1;
+		double bestQ = 0;
+		Vec3 pos;
+		for (int op = 0; op < kOps; ++op) {
+			if ((tried >> op & 1) || !allowed(a, b, op, boundaryEdge, delimiterEdge))
+				continue;
+			Vec3 p;
+			const double q = opCost(a, b, op, p);
+			if (best < 0 || q < bestQ)
+				best = op, bestQ = q, pos = p;
+		}
+		if (best < 0)
+			return false;
+		const double g = gapLowerBound(a, b, best, pos);
+		if (g <= lim_.bound) {
+			e = {cost(a, b, g, bestQ), a, b, stamp_[size_t(a)], stamp_[size_t(b)], uint8_t(best),
+			     tried};
+			return true;
+		}
+		tried = uint8_t(tried | 1u << best); // (its gap alone is over the limit)
 	}
-	if (best < 0)
-		return false;
-	const double g = gapLowerBound(a, b, best, pos);
-	e = {cost(a, b, g, bestQ), a, b, stamp_[size_t(a)], stamp_[size_t(b)], uint8_t(best), tried};
-	return true;
 }
 
 double Reducer::gapLowerBound(int32_t a, int32_t b, int op, const Vec3 &pos) const
@@ -1254,6 +1260,8 @@ bool Reducer::run(CollapseSource &out, ReduceReport &report)
 			apply(pl);
 			++collapses_;
 		}
+		if (!budget && round >= 1)
+			break; // (by error: what the first rounds refused stays refused, near enough)
 		if (collapses_ == before) {
 			// (stuck short of a face budget: only a true minimum may stop it, so the thin-part
 			// test and the turn-over guard give way; the proven bound still says what the level

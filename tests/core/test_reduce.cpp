@@ -1,0 +1,151 @@
+// Levels continued by collapses (docs/DESIGN.md, 51): the default chain's real steps, budgets on
+// textured meshes, the shapes a step must not break.
+#include "engine.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+
+using namespace gausslod;
+using namespace testmesh;
+
+namespace {
+
+// A UV sphere (nu x nv) whose faces are mapped by a cube map: each face's chart is the axis its
+// normal is nearest, its corners' texture coordinates that chart's projection, placed in one of six
+// tiles of the texture; a vertex where charts meet has a corner key per chart (a seam).
+struct TexturedSphere {
+	FlatMesh mesh;
+	std::vector<float> uv;
+	std::vector<uint32_t> cornerKey;
+	MeshView view() const
+	{
+		MeshView v = mesh.view();
+		v.cornerUV = uv.data();
+		v.cornerKey = cornerKey.data();
+		v.wantSources = true;
+		return v;
+	}
+};
+
+TexturedSphere texturedSphere(int nu, int nv)
+{
+	TexturedSphere s;
+	FlatMesh &m = s.mesh;
+	for (int j = 1; j < nv; ++j)
+		for (int i = 0; i < nu; ++i) {
+			const double th = M_PI * j / nv, ph = 2 * M_PI * i / nu;
+			m.positions.insert(m.positions.end(),
+			                   {std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)});
+		}
+	const int32_t top = int32_t(m.positions.size() / 3), bottom = top + 1;
+	m.positions.insert(m.positions.end(), {0, 0, 1, 0, 0, -1});
+	auto id = [&](int j, int i) { return int32_t((j - 1) * nu + (i % nu)); };
+	for (int j = 1; j < nv - 1; ++j)
+		for (int i = 0; i < nu; ++i)
+			m.triangles.insert(m.triangles.end(), {id(j, i), id(j + 1, i), id(j + 1, i + 1),
+			                                       id(j, i), id(j + 1, i + 1), id(j, i + 1)});
+	for (int i = 0; i < nu; ++i)
+		m.triangles.insert(m.triangles.end(),
+		                   {top, id(1, i), id(1, i + 1), bottom, id(nv - 1, i + 1), id(nv - 1, i)});
+	const size_t nF = m.triangles.size() / 3;
+	for (size_t f = 0; f < nF; ++f) {
+		const Vec3 a = vpos(m.positions, m.triangles[3 * f]), b = vpos(m.positions, m.triangles[3 * f + 1]),
+		           c = vpos(m.positions, m.triangles[3 * f + 2]);
+		const Vec3 n = (b - a) ^ (c - a);
+		int axis = 0;
+		for (int k = 1; k < 3; ++k)
+			if (std::fabs(n[k]) > std::fabs(n[axis]))
+				axis = k;
+		const int chart = 2 * axis + (n[axis] < 0);
+		for (int k = 0; k < 3; ++k) {
+			const Vec3 p = vpos(m.positions, m.triangles[3 * f + size_t(k)]);
+			const double u = p[(axis + 1) % 3], v = p[(axis + 2) % 3]; // (in [-1, 1])
+			s.uv.push_back(float((chart % 3 + 0.5 + 0.4 * u) / 3));
+			s.uv.push_back(float((chart / 3 + 0.5 + 0.4 * v) / 2));
+			s.cornerKey.push_back(uint32_t(chart));
+		}
+	}
+	return s;
+}
+
+size_t facesOf(const FlatMesh &m) { return m.triangles.size() / 3; }
+
+} // namespace
+
+TEST(DefaultChain, every_level_of_a_curved_model_is_a_real_step)
+{
+	// low-poly and organic models, whose cells merge little: each level at most 0.8 of the level
+	// before it (the finest: of the input), the coarsest at most 15 % of the input
+	for (const char *name : {"bull.off", "cow.off", "dino.off"}) {
+		SCOPED_TRACE(name);
+		const FlatMesh m = loadOff(name);
+		const TopoFacts in = topoFacts(m.positions, m.triangles);
+		const Result r = buildLevels(m.view(), Params());
+		ASSERT_TRUE(r.ok) << r.error;
+		size_t finer = facesOf(m);
+		size_t reduced = 0;
+		for (const LevelMesh &lm : r.levels) {
+			SCOPED_TRACE("LOD" + std::to_string(lm.stats.level));
+			EXPECT_LE(double(lm.stats.faces), 0.8 * double(finer));
+			EXPECT_GE(lm.stats.distanceBound, 0);
+			reduced += lm.stats.reduced;
+			if (in.closedManifold())
+				EXPECT_TRUE(topoFacts(lm.positions, lm.triangles).closedManifold());
+			finer = lm.stats.faces;
+		}
+		EXPECT_LE(double(finer), 0.15 * double(facesOf(m)));
+		EXPECT_GE(reduced, 1u); // (the test reaches past what the cells give)
+	}
+}
+
+TEST(DefaultChain, a_step_that_would_break_the_shape_is_not_taken)
+{
+	// the grid cube's and a noisy cube's coarse levels are their 12 triangles: a real step would
+	// cut corners off (far more than 32 times the level's tolerance); exact and near-exact levels
+	// keep their count
+	for (const double noise : {0.0, 1e-4}) {
+		SCOPED_TRACE(noise);
+		const FlatMesh m = gridCube(30, 1.0, noise, 3);
+		const Result r = buildLevels(m.view(), Params());
+		ASSERT_TRUE(r.ok) << r.error;
+		EXPECT_EQ(r.levels.back().stats.faces, 12u);
+		EXPECT_EQ(r.levels.back().stats.vertices, 8u);
+	}
+}
+
+TEST(Budgets, a_textured_mesh_reaches_the_budgets_of_its_bare_geometry)
+{
+	// seams constrain, they do not freeze: the textured sphere reaches every budget its bare
+	// geometry does, closed, with finite texture coordinates and a reported texture error
+	const TexturedSphere s = texturedSphere(48, 24);
+	Params prm;
+	std::string error;
+	ASSERT_TRUE(parseLevelsBy("faces:50%,10%,2%", prm, error)) << error;
+	const Result bare = buildLevels(s.mesh.view(), prm), tex = buildLevels(s.view(), prm);
+	ASSERT_TRUE(bare.ok && tex.ok) << tex.error;
+	ASSERT_EQ(bare.levels.size(), tex.levels.size());
+	for (size_t i = 0; i < tex.levels.size(); ++i) {
+		const LevelMesh &b = bare.levels[i], &t = tex.levels[i];
+		SCOPED_TRACE("LOD" + std::to_string(t.stats.level));
+		EXPECT_TRUE(b.stats.targetReached);
+		EXPECT_TRUE(t.stats.targetReached) << t.stats.faces << " of " << t.stats.targetFaces;
+		EXPECT_LE(double(t.stats.faces), 1.1 * double(b.stats.faces));
+		EXPECT_TRUE(topoFacts(t.positions, t.triangles).closedManifold());
+		EXPECT_GE(t.stats.maxTexError, 0.0);
+		ASSERT_EQ(t.sourceCorner.size(), t.triangles.size());
+		for (float x : t.cornerUV)
+			EXPECT_TRUE(std::isfinite(x));
+		EXPECT_TRUE(t.cornerUV.empty() || t.cornerUV.size() == 2 * t.triangles.size());
+	}
+	Params three = prm;
+	three.threads = 3;
+	const Result again = buildLevels(s.view(), three);
+	ASSERT_TRUE(again.ok);
+	for (size_t i = 0; i < tex.levels.size(); ++i) {
+		EXPECT_EQ(again.levels[i].triangles, tex.levels[i].triangles);
+		EXPECT_EQ(again.levels[i].cornerUV, tex.levels[i].cornerUV);
+	}
+}
