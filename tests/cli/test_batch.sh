@@ -37,8 +37,12 @@ good=300 bad=20
 (cd "$work" && grep -v '^#' manifest.txt | shuf --random-source=<(yes) >manifest.txt.shuf &&
   { echo "# made by test_batch.sh"; cat manifest.txt.shuf; } >manifest.txt)
 
+# the superface levels (no level continued by collapses): what is tested here is the batch, on
+# many files; the continued levels are tested on their own (test_cli_targets.sh, core tests)
+superfaces_only="--complete-chain false"
+
 # --- 1. run, SIGKILL after a third of the records, restart ---------------------------------------
-"$tool" batch --threads 1 --format ply "$work/manifest.txt" "$work/out" >"$work/run1.jsonl" 2>"$work/run1.err" &
+"$tool" batch --threads 1 --format ply $superfaces_only "$work/manifest.txt" "$work/out" >"$work/run1.jsonl" 2>"$work/run1.err" &
 pid=$!
 for _ in $(seq 600); do
   [ "$(find "$work/out" -name '*.gausslod.json' 2>/dev/null | wc -l)" -ge 100 ] && break
@@ -80,7 +84,7 @@ mapfile -t levels < <(find "$work/out" -name '*_LOD*.ply')
 [ ${#levels[@]} -gt 0 ] && check_ply "${levels[@]}" && pass "after the kill: ${#levels[@]} level files, none partial" ||
   fail "after the kill: a level file is partial"
 
-"$tool" batch --threads 1 --format ply "$work/manifest.txt" "$work/out" >"$work/run2.jsonl" 2>"$work/run2.err"; rc=$?
+"$tool" batch --threads 1 --format ply $superfaces_only "$work/manifest.txt" "$work/out" >"$work/run2.jsonl" 2>"$work/run2.err"; rc=$?
 [ $rc -eq 1 ] && pass "restart: exit 1 (some inputs failed)" || fail "restart: exit $rc, want 1"
 python3 - "$work" $good $bad <<'PY' && pass "every good file done once, every bad one reported" || fail "batch results wrong (above)"
 import json, sys, collections
@@ -115,7 +119,7 @@ mapfile -t levels < <(find "$work/out" -name '*_LOD*.ply')
 check_ply "${levels[@]}" || fail "a level file is partial after the restart"
 
 # --- 2. a third run redoes nothing ------------------------------------------------------------------
-"$tool" batch --threads 1 --format ply "$work/manifest.txt" "$work/out" >"$work/run3.jsonl" 2>/dev/null
+"$tool" batch --threads 1 --format ply $superfaces_only "$work/manifest.txt" "$work/out" >"$work/run3.jsonl" 2>/dev/null
 c=$(grep -c '"cached":true' "$work/run3.jsonl"); e=$(grep -c '"status":"error"' "$work/run3.jsonl")
 [ "$c" -eq $good ] && [ "$e" -eq $bad ] && pass "third run: $c cached, $e errors again" ||
   fail "third run: $c cached (want $good), $e errors (want $bad)"
@@ -127,14 +131,14 @@ same_files() { # DIR: every level file equal to the first run's
   [ "$(find "$d" -name '*_LOD*.ply' | wc -l)" -eq $((good * 5)) ] && [ $diff -eq 0 ]
 }
 if command -v parallel >/dev/null; then
-  parallel --will-cite -j 2 "$tool" batch --threads 1 --format ply "$work/manifest.txt" "$work/par" --part {}/4 ::: 0 1 2 3 \
+  parallel --will-cite -j 2 "$tool" batch --threads 1 --format ply $superfaces_only "$work/manifest.txt" "$work/par" --part {}/4 ::: 0 1 2 3 \
     >"$work/par.jsonl" 2>/dev/null
   lines=$(grep -c . "$work/par.jsonl"); uniq=$(grep -o '"line":[0-9]*' "$work/par.jsonl" | sort -u | wc -l)
   [ "$lines" -eq $((good + bad)) ] && [ "$uniq" -eq "$lines" ] && same_files "$work/par" &&
     pass "GNU parallel -j 2, 4 parts: every line once, the same files" ||
     fail "GNU parallel: $lines lines, $uniq distinct (want $((good + bad)))"
   printf '2/:\n' >"$work/sshlogins"
-  parallel --will-cite --sshloginfile "$work/sshlogins" "$tool" batch --threads 1 --format ply "$work/manifest.txt" \
+  parallel --will-cite --sshloginfile "$work/sshlogins" "$tool" batch --threads 1 --format ply $superfaces_only "$work/manifest.txt" \
     "$work/ssh" --part {}/3 ::: 0 1 2 >"$work/ssh.jsonl" 2>/dev/null
   lines=$(grep -c . "$work/ssh.jsonl")
   [ "$lines" -eq $((good + bad)) ] && same_files "$work/ssh" &&
@@ -147,7 +151,7 @@ fi
 : >"$work/slurm.jsonl"
 for k in 0 1 2 3 4; do
   SLURM_ARRAY_TASK_ID=$((k + 10)) SLURM_ARRAY_TASK_MIN=10 SLURM_ARRAY_TASK_COUNT=5 GAUSSLOD=$tool \
-    bash "$slurm" "$work/manifest.txt" "$work/slurm" --threads 1 --format ply >"$work/slurm$k.jsonl" 2>/dev/null
+    bash "$slurm" "$work/manifest.txt" "$work/slurm" --threads 1 --format ply $superfaces_only >"$work/slurm$k.jsonl" 2>/dev/null
   cat "$work/slurm$k.jsonl" >>"$work/slurm.jsonl"
 done
 python3 - "$work" <<'PY' && same_files "$work/slurm" && pass "Slurm array (ids 10..14): each task its lines, every line once" || fail "Slurm array mapping wrong"

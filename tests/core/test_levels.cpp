@@ -201,6 +201,8 @@ TEST(Levels, levels_by_target_keep_every_invariant_and_do_not_depend_on_threads)
 {
 	for (const char *name : {"cow.off", "fandisk.off", "bunny00.off"}) {
 		for (const char *by : {"faces:50%,25%,10%,5%", "error:0.01%,0.1%,1%"}) {
+			if (std::string(name) == "bunny00.off" && by[0] == 'e')
+				continue; // (by error the bunny takes seconds per run; cow and fandisk cover it)
 			SCOPED_TRACE(std::string(name) + " " + by);
 			const FlatMesh m = loadOff(name);
 			const FlatMesh welded = weldedCopy(m);
