@@ -70,6 +70,9 @@ enum Kind : uint8_t { kFree, kBoundary, kSeam, kJunction, kFixed, kGone };
 // Operations: full collapses with the kept vertex at the quadric's least, the edge's middle, or
 // either end; half-edge collapses a -> b and b -> a.
 enum Op : uint8_t { kAtBest, kAtMiddle, kAtA, kAtB, kHalfAB, kHalfBA, kOps };
+// (Entry::tried: bit op = that operation was tried; kExactKey = the key is the cost, not a lower
+// bound of it)
+constexpr uint8_t kExactKey = 0x80;
 
 struct Entry {
 	double cost;
@@ -1229,10 +1232,30 @@ bool Reducer::run(CollapseSource &out, ReduceReport &report)
 			    stamp_[size_t(top.a)] != top.sa || stamp_[size_t(top.b)] != top.sb)
 				continue;
 			Vec3 pos;
-			opCost(top.a, top.b, top.op, pos);
-			if (!plan(top.a, top.b, top.op, pos, pl) || !check(pl)) {
+			const double q = opCost(top.a, top.b, top.op, pos);
+			// (a key from the lower bound: first the collapse's own gap, the cheaper proof; a
+			// collapse that costs more than the next one goes back in line with its cost)
+			const bool planned = plan(top.a, top.b, top.op, pos, pl);
+			if (planned && !(top.tried & kExactKey) &&
+			    provePatch(pl.pc, kFacing, slop(), pl.proof, false)) {
+				double g = 0;
+				for (int i = 0; i < pl.pc.nNew; ++i)
+					g = std::max(g, pl.proof.gap[i]);
+				if (!uv_.empty()) {
+					wedges(pl);
+					g += textureShift(pl);
+				}
+				const double exact = cost(top.a, top.b, g, q);
+				if (!heap_.empty() && exact > heap_.top().cost * (1 + 1e-9)) {
+					top.cost = exact;
+					top.tried |= kExactKey;
+					heap_.push(top);
+					continue;
+				}
+			}
+			if (!planned || !check(pl)) {
 				Entry e;
-				if (bestOp(top.a, top.b, uint8_t(top.tried | 1u << top.op), e))
+				if (bestOp(top.a, top.b, uint8_t((top.tried & ~kExactKey) | 1u << top.op), e))
 					heap_.push(e);
 				else
 					blocked_[size_t(top.a)] = blocked_[size_t(top.b)] = 1;
@@ -1245,11 +1268,12 @@ bool Reducer::run(CollapseSource &out, ReduceReport &report)
 				g = std::max(g, pl.proof.gap[i]);
 			if (!uv_.empty())
 				g += textureShift(pl);
-			const double now = cost(top.a, top.b, g, opCost(top.a, top.b, top.op, pos)) +
-			                   (pl.overTexLimit ? kOverTexLimit * t_.diagonal : 0.0);
+			const double now =
+			    cost(top.a, top.b, g, q) + (pl.overTexLimit ? kOverTexLimit * t_.diagonal : 0.0);
 			if (now > top.cost * (1 + 1e-9) && !heap_.empty() &&
 			    now > heap_.top().cost * (1 + 1e-9)) {
 				top.cost = now;
+				top.tried |= kExactKey;
 				heap_.push(top);
 				continue;
 			}
