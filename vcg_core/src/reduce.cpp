@@ -1,16 +1,20 @@
 // Beyond the paper (docs/DESIGN.md, 51): a level completed by edge collapses (reduce.h).
 //
 // Garland and Heckbert, "Surface Simplification Using Quadric Error Metrics", SIGGRAPH 1997: each
-// vertex carries the quadric of the input planes it stands for; an edge's cost is the quadric of
-// both ends at the point where it is least (or at the kept end); the least cost goes first, from a
-// heap whose entries are checked when they come up (lazy, as in quadric simplifiers). Each
-// collapse is proven (reduce_patch.h): the fan's triangles carry a bound on their distance to the
-// input, both ways, and the cone of the input normals they stand for.
+// vertex carries the quadric of the input planes it stands for; an edge's operation is the one
+// whose quadric is least (the kept vertex at the quadric's least point, or at either end). Its
+// cost is the collapse's proven gap plus the RMS distance to the quadric's planes (DESIGN 51:
+// the gap keeps the worst point in view, the quadric what is kept); the least cost goes first,
+// from a heap keyed by a lower bound of it, the cost taken when an entry comes up (lazy, as in
+// quadric simplifiers). Each collapse is proven (reduce_patch.h): the fan's triangles carry a
+// bound on their distance to the input, both ways, and the cone of the input normals they stand
+// for.
 //
 // Vertex kinds (one table every step consults): free vertices move anywhere; a vertex on a mesh
 // boundary moves along it, to a neighbour on it; a vertex on a delimiter chain (a seam, a material
-// border) along the chain; a locked input vertex, a junction of delimiters and a vertex where
-// boundary loops touch never move (they may receive collapses).
+// border) along the chain, and where a face count is asked also across it, as a junction of
+// delimiters may (a chart that loses its corner extends its mapping); a locked input vertex and a
+// vertex where boundary loops touch never move (they may receive collapses).
 #include "reduce.h"
 #include "level_passes.h"
 #include "reduce_patch.h"
