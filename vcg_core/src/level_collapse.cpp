@@ -61,6 +61,7 @@ void collapseSourceOf(const Topology &t, LevelMesh lm, CollapseSource &out)
 	}
 	out.bound.resize(nT);
 	const bool perSuperface = lm.superfaceBound.size() == sfCount;
+	out.unbounded = !perSuperface && lm.stats.distanceBound < 0;
 	for (size_t f = 0; f < nT; ++f) // (float bounds: the next float up, to stay bounds)
 		out.bound[f] =
 		    perSuperface
@@ -201,7 +202,9 @@ void measureNormalDeviation(const Topology &t, LevelMesh &level, size_t threads)
 	if (level.triangles.empty())
 		return;
 	const NearestTriangles grid(level, 1e-9 * t.diagonal);
-	const double rMax = std::max(0.0, st.distanceBound) * (1 + 1e-9) + 1e-12 * t.diagonal;
+	// (a level of unknown distance, tolerance off: looked for as far as the input's diagonal)
+	const double rMax = st.distanceBound < 0 ? t.diagonal
+	                                         : st.distanceBound * (1 + 1e-9) + 1e-12 * t.diagonal;
 	const size_t parts = std::max<size_t>(threads, 1);
 	std::vector<double> worst(parts, 0.0), sum(parts, 0.0), area(parts, 0.0);
 	// (every k-th face, at most kMeasuredFaces of them: a measure, not a bound)

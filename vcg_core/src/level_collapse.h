@@ -28,6 +28,10 @@ struct CollapseSource {
 	std::vector<Quadric> quadric;
 	std::vector<float> uvError;
 	std::vector<int32_t> inputTri;
+	/// The level's own distance to the input is not known (a level built with the tolerance off
+	/// reports none): `bound` is then 0, each collapse's bound is its own gap from this level, and
+	/// a level continued from it reports no distance bound either (-1).
+	bool unbounded = false;
 	void clear() { *this = CollapseSource(); }
 	bool empty() const { return mesh.triangles.empty(); }
 };

@@ -1479,7 +1479,8 @@ void Reducer::write(CollapseSource &out, ReduceReport &report)
 	st.maxNormalDevDeg = std::max(sm.stats.maxNormalDevDeg, maxDev);
 	st.meanNormalDevDeg = area > 0 ? devArea / area : 0;
 	st.unmeasuredFaces = 0;
-	st.distanceBound = maxBound;
+	st.distanceBound = src_.unbounded ? -1 : maxBound; // (a source of unknown distance: none)
+	out.unbounded = src_.unbounded;
 	st.placedVertices = placed;
 	st.maxPlacement = maxMove;
 	st.collapses = collapses_;
