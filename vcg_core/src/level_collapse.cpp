@@ -202,9 +202,9 @@ void measureNormalDeviation(const Topology &t, LevelMesh &level, size_t threads)
 	if (level.triangles.empty())
 		return;
 	const NearestTriangles grid(level, 1e-9 * t.diagonal);
-	// (a level of unknown distance, tolerance off: looked for as far as the input's diagonal)
-	const double rMax = st.distanceBound < 0 ? t.diagonal
-	                                         : st.distanceBound * (1 + 1e-9) + 1e-12 * t.diagonal;
+	// (a level of unknown distance, tolerance off: only what is within rounding; a search out to
+	// the diagonal on a fine grid timed the fuzzer out)
+	const double rMax = std::max(0.0, st.distanceBound) * (1 + 1e-9) + 1e-12 * t.diagonal;
 	const size_t parts = std::max<size_t>(threads, 1);
 	std::vector<double> worst(parts, 0.0), sum(parts, 0.0), area(parts, 0.0);
 	// (every k-th face, at most kMeasuredFaces of them: a measure, not a bound)
