@@ -757,7 +757,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 				st.reduced = c.reduced;
 				st.maxTexError = c.maxTexError;
 				st.texErrorLimit = c.texErrorLimit;
-				st.reusedFiner = st.reusedFiner || c.collapses == 0;
+				st.reusedFiner = c.collapses == 0; // (collapses made a mesh of its own)
 			}
 			LevelMesh &out = takeCollapsed ? collapsed.mesh : lm;
 			setTargetStats(params, level, target, topo.diagonal, out.stats);
