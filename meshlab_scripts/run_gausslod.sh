@@ -141,11 +141,12 @@ tmp=$(mktemp -d "${TMPDIR:-/tmp}/gausslod-run.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 mkdir -p "$tmp/config" "$tmp/runtime"; chmod 700 "$tmp/runtime"
 
-# a script written before the filter had its levelsBy, levelTargets, placeVertices or
-# completeChain parameter: meshlabserver 2020.09 aborts on a script that lacks any of the filter's
-# parameters, so a copy gets them with what such a script meant (levels by angle, or its levelsBy
-# text, which the filter still reads; output vertices at their input positions; the paper's
-# levels, not continued by collapses)
+# a script written before the filter had its levelsBy, levelTargets, placeVertices,
+# completeChain or certifyDistance parameter: meshlabserver 2020.09 aborts on a script that lacks
+# any of the filter's parameters, so a copy gets them with what such a script meant (levels by
+# angle, or its levelsBy text, which the filter still reads; output vertices at their input
+# positions; the paper's levels, not continued by collapses; the distance certified, which
+# changes no level)
 run_script=$script
 missing=()
 grep -q 'name="levelsBy"' "$script" ||
@@ -156,6 +157,8 @@ grep -q 'name="placeVertices"' "$script" ||
   missing+=('<Param type="RichBool" name="placeVertices" value="false" description="Place vertices on the surface"/>')
 grep -q 'name="completeChain"' "$script" ||
   missing+=('<Param type="RichBool" name="completeChain" value="false" description="Keep every level a real step"/>')
+grep -q 'name="certifyDistance"' "$script" ||
+  missing+=('<Param type="RichBool" name="certifyDistance" value="true" description="Certify the distance"/>')
 if [ ${#missing[@]} -gt 0 ]; then
   run_script=$tmp/script.mlx
   awk -v f="$filter_name" -v add="$(printf '  %s\n' "${missing[@]}")" '
@@ -217,12 +220,16 @@ level_placed() {
 level_distance() {
   grep -m1 "^LOG: [0-9]* LOD$1 (" "$log" | LC_ALL=C sed -E -n 's/.*; distance to the input at most ([0-9.]+) % of the diagonal.*/\1/p'
 }
+# the level's certified Hausdorff distance (% of the diagonal), if certified (DESIGN 52)
+level_hausdorff() {
+  grep -m1 "^LOG: [0-9]* LOD$1 (" "$log" | LC_ALL=C sed -E -n 's/.*; Hausdorff distance to the input certified at most ([0-9.]+) % of the diagonal.*/\1/p'
+}
 # levels by target: the level's target and whether it was reached
 level_target() {
   grep -m1 "^LOG: [0-9]* LOD$1 (" "$log" | LC_ALL=C sed -E -n 's/.*; target (.*), distance tolerance ([0-9.e+-]+) %.*/target \1, tolerance \2 %/p'
 }
 missing=0
-fmt='%-6s %10s %10s %10s %9s %9s %9s %9s %8s %9s %10s  %s\n'
+fmt='%-6s %10s %10s %10s %9s %9s %9s %9s %8s %9s %10s %10s  %s\n'
 repairs=$(grep -m1 -o 'Input repairs (the input layer is unchanged): .*' "$log" || true)
 [ -z "$repairs" ] || echo "${repairs/ (the input layer is unchanged)/}"
 carried=$(grep -m1 -o 'Carried to the levels: .*' "$log" || true)
@@ -247,8 +254,8 @@ if [ -n "$textures" ] && [ "$in_dir" != "$outdir" ]; then
     fi
   done < <(echo "$textures" | sed 's/ | /\n/g')
 fi
-printf "$fmt" level faces vertices superfaces fallbacks bound maxdev meandev seconds placed distbound% file
-printf "$fmt" input "$in_faces" "$in_verts" - - - - - - - - "$input"
+printf "$fmt" level faces vertices superfaces fallbacks bound maxdev meandev seconds placed distbound% hausdorff% file
+printf "$fmt" input "$in_faces" "$in_verts" - - - - - - - - - "$input"
 for i in "${!levels[@]}"; do
   f=${outputs[$i]}
   if [ ! -s "$f" ]; then
@@ -265,10 +272,11 @@ for i in "${!levels[@]}"; do
   read -r faces verts <<<"$counts"
   read -r bound sf fb maxdev meandev secs <<<"$(level_stats "${levels[$i]}")" || true
   dist=$(level_distance "${levels[$i]}")
+  haus=$(level_hausdorff "${levels[$i]}")
   placed=$(level_placed "${levels[$i]}")
   [ -n "$dist" ] && placed=${placed:-0}
   printf "$fmt" "LOD${levels[$i]}" "$faces" "$verts" "${sf:--}" "${fb:--}" "${bound:--}" \
-    "${maxdev:--}" "${meandev:--}" "${secs:--}" "${placed:--}" "${dist:--}" "$f"
+    "${maxdev:--}" "${meandev:--}" "${secs:--}" "${placed:--}" "${dist:--}" "${haus:--}" "$f"
   target=$(level_target "${levels[$i]}")
   [ -z "$target" ] || echo "       $target"
 done

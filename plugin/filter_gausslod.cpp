@@ -191,8 +191,11 @@ QString levelLabel(const QString &base, const gausslod::LevelStats &s, double di
 	QString label = QString("%1 LOD%2 (%3 f").arg(base).arg(s.level).arg(thousands(s.faces));
 	if (!s.reduced)
 		label += QString(", <=%1 deg").arg(QString::number(s.boundDeg, 'g', 3));
-	if (s.distanceBound >= 0 && diag > 0) // (the level's distance bound, % of the diagonal)
-		label += QString(", <=%1 %").arg(QString::number(100.0 * s.distanceBound / diag, 'g', 2));
+	// (the level's distance to the input, % of the diagonal: certified if it was, DESIGN 52,
+	// else the construction's bound; both are proven)
+	const double distance = s.hausdorff >= 0 ? s.hausdorff : s.distanceBound;
+	if (distance >= 0 && diag > 0)
+		label += QString(", <=%1 %").arg(QString::number(100.0 * distance / diag, 'g', 2));
 	return label + ")";
 }
 
@@ -222,6 +225,14 @@ QString levelLogLine(const gausslod::LevelStats &s, double diag)
 		line += QString("; distance to the input at most %1 % of the diagonal (%2, a proven bound)")
 		            .arg(QString::number(100.0 * s.distanceBound / diag, 'f', 4))
 		            .arg(QString::number(s.distanceBound, 'g', 4));
+	if (s.hausdorff >= 0 && diag > 0)
+		line += QString("; Hausdorff distance to the input certified at most %1 % of the diagonal "
+		                "(%2; at least %3 %, measured at a point%4; %5 s)")
+		            .arg(QString::number(100.0 * s.hausdorff / diag, 'f', 4))
+		            .arg(QString::number(s.hausdorff, 'g', 4))
+		            .arg(QString::number(100.0 * s.hausdorffLower / diag, 'f', 4))
+		            .arg(s.hausdorffConverged ? "" : "; the search stopped at its work limit")
+		            .arg(QString::number(s.secondsHausdorff, 'f', 3));
 	if (s.placedVertices > 0 && diag > 0)
 		line += QString("; %1 vertices placed on the surface (moved at most %2 % of the diagonal)")
 		            .arg(thousands(s.placedVertices))

@@ -360,7 +360,15 @@ std::string levelJson(const gausslod::Params &p, const Outcome &o, size_t i)
 	if (s.maxTexError >= 0)
 		std::snprintf(texLimit, sizeof texLimit, "%.6g",
 		              s.texErrorLimit >= 0 ? s.texErrorLimit : p.maxTexError);
-	std::string json = buf + repairsJson(s.input) + "," + attributesJson(o, s) +
+	// (DESIGN 52: the certified Hausdorff distance, upper and lower, % and mesh units)
+	char haus[192] = "\"hausdorff_pct\":null,\"hausdorff\":null,\"hausdorff_lower\":null,";
+	if (s.hausdorff >= 0 && o.diagonal > 0)
+		std::snprintf(haus, sizeof haus,
+		              "\"hausdorff_pct\":%.6f,\"hausdorff\":%.6g,\"hausdorff_lower\":%.6g,"
+		              "\"hausdorff_converged\":%s,\"seconds_hausdorff\":%.4f,",
+		              100.0 * s.hausdorff / o.diagonal, s.hausdorff, s.hausdorffLower,
+		              s.hausdorffConverged ? "true" : "false", s.secondsHausdorff);
+	std::string json = buf + std::string(haus) + repairsJson(s.input) + "," + attributesJson(o, s) +
 	                   ",\"tex_error_limit\":" + texLimit + "," + targetJson(p, s) +
 	                   ",\"file\":" + jsonString(o.files[i]);
 	if (i < o.materialFiles.size() && !o.materialFiles[i].empty())
@@ -615,12 +623,13 @@ int main(int argc, char **argv)
 				std::printf("attributes carried: %s\n", carried.c_str());
 			if (targets)
 				std::printf("levels by %s\n", gausslod::levelsByText(o.params).c_str());
-			std::printf("%-6s %9s %9s %10s %9s %9s %9s %9s %8s%s%s%s%s\n", "level", "faces", "vertices",
+			std::printf("%-6s %9s %9s %10s %9s %9s %9s %9s %8s%s%s%s%s%s\n", "level", "faces", "vertices",
 			            "superfaces", "fallback", "bound", "maxdev", "meandev", "seconds",
 			            distance ? "    placed distbound%" : "", texture ? "     texerr" : "",
 			            targets ? (o.params.levelFaces.empty() ? "    target%" : "     target")
 			            : "",
-			            targets ? " reached      tol% trials" : "");
+			            targets ? " reached      tol% trials" : "",
+			            o.params.certifyDistance ? " hausdorff%" : "");
 			std::printf("%-6s %9zu %9zu %10s %9s %9s %9s %9s %8s%s%s\n", "input", sofar.inputFaces,
 			            sofar.inputVertices, "-", "-", "-", "-", "-", "-",
 			            distance ? "         -          -" : "", texture ? "          -" : "");
@@ -629,9 +638,14 @@ int main(int argc, char **argv)
 			std::printf("%s\n", cli::levelJson(o.params, sofar, sofar.levels.size() - 1).c_str());
 		} else {
 			const std::string label = "LOD" + std::to_string(s.level);
-			std::printf("%s%s\n",
+			char haus[32] = "";
+			if (o.params.certifyDistance && s.hausdorff >= 0 && sofar.diagonal > 0)
+				std::snprintf(haus, sizeof haus, " %10.4f", 100.0 * s.hausdorff / sofar.diagonal);
+			else if (o.params.certifyDistance)
+				std::snprintf(haus, sizeof haus, " %10s", "-");
+			std::printf("%s%s%s\n",
 			            tableRow(label.c_str(), s, sofar.diagonal, distance, texture).c_str(),
-			            targets ? targetColumns(s).c_str() : "");
+			            targets ? targetColumns(s).c_str() : "", haus);
 		}
 		std::fflush(stdout);
 	};

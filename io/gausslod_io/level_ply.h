@@ -101,6 +101,14 @@ inline bool writeLevelPly(const LevelMesh &level, const std::string &file, bool 
 			              level.stats.distanceBound);
 			header += line;
 		}
+		if (level.stats.hausdorff >= 0) { // (DESIGN 52: certified, usually far below the bound)
+			char line[200];
+			std::snprintf(line, sizeof line,
+			              "comment GaussLOD hausdorff %.9g (certified upper bound on the "
+			              "Hausdorff distance to the input, mesh units)\n",
+			              level.stats.hausdorff);
+			header += line;
+		}
 		header += "element vertex " + std::to_string(nv) +
 		          "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
 		          std::to_string(nf) + "\nproperty list uchar int vertex_indices\n";
@@ -129,9 +137,15 @@ inline bool writeLevelPly(const LevelMesh &level, const std::string &file, bool 
 inline std::string levelStlHeader(const LevelMesh &level)
 {
 	char h[81];
-	if (level.stats.distanceBound >= 0)
+	if (level.stats.distanceBound >= 0 && level.stats.hausdorff >= 0)
+		std::snprintf(h, sizeof h, "GaussLOD level %d distance_bound %.9g hausdorff %.9g",
+		              level.stats.level, level.stats.distanceBound, level.stats.hausdorff);
+	else if (level.stats.distanceBound >= 0)
 		std::snprintf(h, sizeof h, "GaussLOD level %d distance_bound %.9g", level.stats.level,
 		              level.stats.distanceBound);
+	else if (level.stats.hausdorff >= 0)
+		std::snprintf(h, sizeof h, "GaussLOD level %d hausdorff %.9g", level.stats.level,
+		              level.stats.hausdorff);
 	else
 		std::snprintf(h, sizeof h, "GaussLOD level %d", level.stats.level);
 	std::string s(h);

@@ -191,7 +191,7 @@ assert [r['status'] for r in run1] == ['ok'] * 3, run1
 assert [r['cached'] for r in run2] == [True] * 3, run2
 target = ('levels_by', 'target_faces', 'target_error_pct', 'target_reached', 'tolerance_pct', 'trials')
 timing = ('seconds', 'seconds_partition', 'seconds_borders', 'seconds_triangulation', 'seconds_checks',
-          'seconds_placement', 'seconds_collapse')
+          'seconds_placement', 'seconds_collapse', 'seconds_hausdorff')
 for recs in (run1, run2, stored):
     fandisk, cow, joint = recs
     # faces:50%,25% of fandisk's 12946 faces: LOD1 6473, LOD0 3236, both reachable (test_cli_targets.sh)

@@ -121,16 +121,21 @@ for f in sys.argv[1:]:
     data = open(f, 'rb').read()
     end = data.index(b'end_header\n') + len(b'end_header\n')
     head = data[:end].decode().split('\n')
-    # (the level's distance bound, when the tolerance is on, is a second comment line)
+    # (the level's distance bound, when the tolerance is on, is a second comment line, and its
+    # certified Hausdorff distance the next)
     bound = [h for h in head[3:4] if h.startswith('comment GaussLOD distance_bound ')]
     head = head[:3] + head[3 + len(bound):]
+    haus = [h for h in head[3:4] if h.startswith('comment GaussLOD hausdorff ')]
+    head = head[:3] + head[3 + len(haus):]
     nv, nf = int(head[3].split()[2]), int(head[7].split()[2])
     want = ['ply', 'format binary_little_endian 1.0', head[2], f'element vertex {nv}',
             'property float x', 'property float y', 'property float z', 'element face ' + str(nf),
             'property list uchar int vertex_indices', 'property uchar red', 'property uchar green',
             'property uchar blue', 'property uchar alpha', 'end_header', '']
     if not head[2].startswith('comment GaussLOD level') or head != want or not bound or \
-       float(bound[0].split()[3]) < 0 or len(data) != end + 12 * nv + 17 * nf:
+       float(bound[0].split()[3]) < 0 or not haus or \
+       not 0 <= float(haus[0].split()[3]) <= float(bound[0].split()[3]) * 1.05 + 1e-9 or \
+       len(data) != end + 12 * nv + 17 * nf:
         print('not the lean layout:', f, head); bad += 1
 sys.exit(1 if bad else 0)
 PY

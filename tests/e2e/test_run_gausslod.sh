@@ -36,7 +36,7 @@ check_levels() {
     if [ "$prev" -ge 0 ] && [ "$faces" -gt "$prev" ]; then
       fail "$f: $faces faces, more than the finer level ($prev)"
     fi
-    grep -Eq "^LOD$level +$faces +$verts +[0-9]+ +[0-9]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +([0-9]+|-) +([0-9.]+|-) +$f\$" "$log" ||
+    grep -Eq "^LOD$level +$faces +$verts +[0-9]+ +[0-9]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +([0-9]+|-) +([0-9.]+|-) +([0-9.]+|-) +$f\$" "$log" ||
       fail "runner table has no row 'LOD$level $faces $verts ... $f' with the filter's figures"
     prev=$faces
   done
@@ -50,7 +50,13 @@ check_levels "$work/cow" cow "$work/cow.log" 4 3 2 1 0
 # row's distbound% (the proven bound: the tolerance check keeps what it measures within the
 # tolerance, the bound adds the border pockets, DESIGN 23) above 0 and within 4x its level's
 for level in 4 3 2 1 0; do
-  d=$(awk -v l="LOD$level" '$1 == l { print $(NF - 1) }' "$work/cow.log")
+  d=$(awk -v l="LOD$level" '$1 == l { print $(NF - 2) }' "$work/cow.log")
+  # (and its certified Hausdorff distance, DESIGN 52: above 0, at most the bound, within the
+  # certificate's 5 % above the true distance where the bound is tight)
+  h=$(awk -v l="LOD$level" '$1 == l { print $(NF - 1) }' "$work/cow.log")
+  awk -v d="$d" -v h="$h" 'BEGIN { exit !(h ~ /^[0-9.]+$/ && h > 0 && h + 0 <= 1.05 * d) }' &&
+    pass "cow LOD$level: certified Hausdorff $h % <= bound $d %" ||
+    fail "cow LOD$level: certified Hausdorff '$h' %, bound '$d' %"
   # (a level continued by collapses to a real step, DESIGN 51, may go to 32 x the tolerance)
   awk -v d="$d" -v l="$level" 'BEGIN { exit !(d ~ /^[0-9.]+$/ && d > 0 && d + 0 <= 32 * 0.02 * 2 ^ (4 - l)) }' &&
     pass "cow LOD$level: distance bound $d %" ||
@@ -108,7 +114,7 @@ run old_script "$data/fandisk.off" "$work/old_script" "$work/old.mlx"
 if [ $rc -eq 0 ]; then pass "script without levelsBy, placeVertices: exit 0"; else fail "script without levelsBy, placeVertices: exit $rc"; fi
 check_levels "$work/old_script" fandisk "$work/old_script.log" 4 3 2 1 0
 # (the table's placed column: 0 at every level of the old script, more at some of the default's)
-placed_sum() { awk '$1 ~ /^LOD[0-9]$/ { s += $(NF - 2) } END { print s + 0 }' "$1"; }
+placed_sum() { awk '$1 ~ /^LOD[0-9]$/ { s += $(NF - 3) } END { print s + 0 }' "$1"; }
 if [ "$(placed_sum "$work/old_script.log")" -eq 0 ]; then
   pass "script without placeVertices: no vertex placed"
 else

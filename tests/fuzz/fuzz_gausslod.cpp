@@ -149,30 +149,52 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 			fail("a source vertex list of the wrong length");
 		if (!lm.stats.reduced && lm.stats.maxPlacement > 0.5 * tol * (1 + 1e-9))
 			fail("a vertex placed farther than half the level's tolerance");
-		// the bound holds from the level to the input: at its vertices, edge midpoints and
-		// triangle centroids (sampled, so at most the true distance)
-		if (lm.stats.distanceBound >= 0)
-			for (size_t f = 0; 3 * f + 2 < lm.triangles.size(); ++f) {
+		// the bound holds from the level to the input, and the certified Hausdorff distance
+		// (DESIGN 52) both ways: at vertices, edge midpoints and triangle centroids (sampled, so
+		// at most the true distance); the input's triangles with a repeated vertex are left out
+		auto farthest = [](const std::vector<double> &P, const std::vector<int32_t> &T,
+		                   const std::vector<double> &toP, const std::vector<int32_t> &toT) {
+			auto repeated = [](const int32_t *t) { return t[0] == t[1] || t[1] == t[2] || t[2] == t[0]; };
+			double worst = 0;
+			for (size_t f = 0; 3 * f + 2 < T.size(); ++f) {
+				if (repeated(&T[3 * f]))
+					continue;
 				P3 c[3];
 				for (int k = 0; k < 3; ++k) {
-					const double *q = &lm.positions[3 * size_t(lm.triangles[3 * f + size_t(k)])];
+					const double *q = &P[3 * size_t(T[3 * f + size_t(k)])];
 					c[k] = {q[0], q[1], q[2]};
 				}
 				const P3 samples[7] = {c[0], c[1], c[2], (c[0] + c[1]) * 0.5, (c[1] + c[2]) * 0.5,
 				                       (c[2] + c[0]) * 0.5, (c[0] + c[1] + c[2]) * (1.0 / 3)};
 				for (const P3 &s : samples) {
 					double d2 = HUGE_VAL;
-					for (size_t t = 0; 3 * t + 2 < tris.size(); ++t) {
-						const double *a = &pos[3 * size_t(tris[3 * t])],
-						             *b = &pos[3 * size_t(tris[3 * t + 1])],
-						             *e = &pos[3 * size_t(tris[3 * t + 2])];
+					for (size_t t = 0; 3 * t + 2 < toT.size(); ++t) {
+						if (repeated(&toT[3 * t]))
+							continue;
+						const double *a = &toP[3 * size_t(toT[3 * t])],
+						             *b = &toP[3 * size_t(toT[3 * t + 1])],
+						             *e = &toP[3 * size_t(toT[3 * t + 2])];
 						d2 = std::min(d2, triangleDistance2(s, {a[0], a[1], a[2]},
 						                                    {b[0], b[1], b[2]}, {e[0], e[1], e[2]}));
 					}
-					if (std::sqrt(d2) > lm.stats.distanceBound * (1 + 1e-9) + 1e-12 * diag)
-						fail("a point of the level farther from the input than its distance bound");
+					worst = std::max(worst, std::sqrt(d2));
 				}
 			}
+			return worst;
+		};
+		const double levelFar = farthest(lm.positions, lm.triangles, pos, tris);
+		if (lm.stats.distanceBound >= 0 &&
+		    levelFar > lm.stats.distanceBound * (1 + 1e-9) + 1e-12 * diag)
+			fail("a point of the level farther from the input than its distance bound");
+		if (lm.stats.hausdorff >= 0) {
+			const double inputFar = farthest(pos, tris, lm.positions, lm.triangles);
+			if (std::max(levelFar, inputFar) > lm.stats.hausdorff)
+				fail("a point farther from the other surface than the certified Hausdorff distance");
+			if (!(lm.stats.hausdorffLower <= lm.stats.hausdorff) ||
+			    (lm.stats.hausdorffConverged &&
+			     lm.stats.hausdorff > 1.05 * lm.stats.hausdorffLower * (1 + 1e-6) + 1e-11 * diag))
+				fail("a certified Hausdorff distance not within its factor of its lower bound");
+		}
 		for (size_t v = 0; v < nvOut; ++v) {
 			const int32_t s = lm.sourceVertex[v];
 			if (s < 0 || size_t(s) >= nv)

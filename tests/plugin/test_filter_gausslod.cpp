@@ -20,7 +20,7 @@ TEST_F(GaussLodPlugin, declares_itself_as_a_single_mesh_remeshing_filter)
 	const QStringList expected = {
 	    "maxLevel",     "levelsBy",      "levelTargets",  "outputLevels",  "featureAngle",     "straightenTol",
 	    "mergeDist",    "maxDistance",   "distanceGrowth", "normalLimit",  "acrossCells",      "placeVertices",
-	    "weldVertices", "weldDistance",  "keepMaterials", "keepSeams",     "maxTexError",      "completeChain",
+	    "certifyDistance", "weldVertices", "weldDistance",  "keepMaterials", "keepSeams",     "maxTexError",      "completeChain",
 	    "selectedOnly", "colourSuperfaces", "overwriteColours", "fauxEdges"};
 	EXPECT_EQ(par.size(), unsigned(expected.size()));
 	for (const QString &name : expected)
@@ -30,6 +30,7 @@ TEST_F(GaussLodPlugin, declares_itself_as_a_single_mesh_remeshing_filter)
 	EXPECT_EQ(par.getEnum("levelsBy"), 0); // (the paper's angle levels)
 	EXPECT_EQ(par.getString("levelTargets"), "50%,25%,10%,5%,2%");
 	EXPECT_TRUE(par.getBool("completeChain"));
+	EXPECT_TRUE(par.getBool("certifyDistance"));
 	EXPECT_FLOAT_EQ(par.getFloat("featureAngle"), 30.0f);
 	const float diag = md.mm()->cm.bbox.Diag();
 	EXPECT_NEAR(par.getAbsPerc("straightenTol"), 0.005f * diag, 1e-6f * diag);

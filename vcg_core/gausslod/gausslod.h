@@ -155,6 +155,10 @@ struct Params {
 	/// distance bound is 0 (an exact level); its normal deviation is then measured, not bound
 	/// by its cells. false = the paper's levels.
 	bool completeChain = true;
+	/// Beyond the paper (docs/DESIGN.md, 52): after each level is made, its two-sided Hausdorff
+	/// distance to the input is certified within 5 % (LevelStats::hausdorff). A measurement:
+	/// it changes no level. false = not computed (-1).
+	bool certifyDistance = true;
 	/// Input repair, as MeshLab does to STL files on import: vertices at exactly the same position
 	/// become one (the first in index order), so that a triangle soup (STL, most CAD and BIM
 	/// exports) is simplified like the welded mesh. Faces then refer to that first vertex; the
@@ -280,6 +284,16 @@ struct LevelStats {
 	                             ///< Hausdorff distance), mesh units; proven per superface, not
 	                             ///< sampled (DESIGN 23); measured, it is about half of this;
 	                             ///< -1 = not computed (tolerance off)
+	/// With Params::certifyDistance: the two-sided Hausdorff distance between the level and the
+	/// input (every valid input triangle, as given), certified by branch and bound after the
+	/// level is made (DESIGN 52): `hausdorff` is an upper bound (rounded up) and
+	/// `hausdorffLower` a distance measured at a point, hausdorff <= 1.05 x hausdorffLower
+	/// unless `hausdorffConverged` is false (the work budget ran out; still an upper bound).
+	/// Mesh units; -1 = not computed.
+	double hausdorff = -1;
+	double hausdorffLower = -1;
+	bool hausdorffConverged = true;
+	double secondsHausdorff = 0; ///< time spent certifying it (not in `seconds`)
 	double texErrorLimit = -1;   ///< with MeshView::cornerUV, a level continued by collapses
 	                             ///< (reduced): the texture limit it was built with, UV units
 	                             ///< (Params::maxTexError scaled by the square root of the input

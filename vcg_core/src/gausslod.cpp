@@ -2,6 +2,7 @@
 // then level by level from fine to coarse: geometry of the level, then the partition of the next
 // coarser level by merging sibling cells.
 #include "engine.h"
+#include "hausdorff.h"
 #include "level_passes.h"
 #include "reduce.h"
 
@@ -94,6 +95,29 @@ size_t uncoveredFaces(const detail::Topology &t, const LevelMesh &lm)
 double since(std::chrono::steady_clock::time_point t0)
 {
 	return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// DESIGN 52: the level's two-sided Hausdorff distance to the caller's input, certified within
+// kCertifyEps; the input's tree is built for the first level that needs it.
+constexpr double kCertifyEps = 0.05;
+constexpr size_t kCertifyPieces = 64; // per triangle of both sides: the refinement's budget
+
+void certify(const MeshView &input, LevelMesh &level, std::unique_ptr<detail::TriangleTree> &inputTree,
+             size_t threads)
+{
+	const auto t0 = std::chrono::steady_clock::now();
+	if (!inputTree)
+		inputTree.reset(new detail::TriangleTree(input.positions, input.triangles, input.faceCount));
+	const detail::TriangleTree lt(level.positions.data(), level.triangles.data(),
+	                      level.triangles.size() / 3);
+	const detail::HausdorffBounds h =
+	    detail::hausdorff(lt, *inputTree, kCertifyEps,
+	              kCertifyPieces * (lt.triangles().size() + inputTree->triangles().size()), threads);
+	LevelStats &st = level.stats;
+	st.hausdorff = h.upper;
+	st.hausdorffLower = h.lower;
+	st.hausdorffConverged = h.converged;
+	st.secondsHausdorff = since(t0);
 }
 
 bool fail(Result &res, ErrorKind kind, std::string error)
@@ -426,6 +450,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 		MeshView mesh;
 		WeldedInput welded; // (the triangles on welded vertices, if any was welded)
 		std::unique_ptr<Topology> inputTopo(new Topology());
+		std::unique_ptr<TriangleTree> inputTree; // (DESIGN 52, built when first needed)
 		const size_t threads = threadCount(params.threads);
 		if (!prepare(input, params, res, mesh, welded, *inputTopo, threads))
 			return false;
@@ -761,6 +786,12 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			}
 			LevelMesh &out = takeCollapsed ? collapsed.mesh : lm;
 			setTargetStats(params, level, target, topo.diagonal, out.stats);
+			if (params.certifyDistance) { // DESIGN 52: the level's distance to the input, certified
+				if (!report(0.05 + 0.95 * (double(finest - level) + 0.5) / params.maxLevel,
+				            "certifying the level's distance"))
+					return false;
+				certify(input, out, inputTree, threads);
+			}
 			if (const size_t lost = uncoveredFaces(topo, out))
 				return fail(res, ErrorKind::Internal,
 				            "internal error: level " + std::to_string(level) +
