@@ -246,13 +246,27 @@ TEST(Quality, levels_by_error_bound_each_levels_measured_distance)
 			EXPECT_DOUBLE_EQ(s.targetDistance, want[s.level]);
 			EXPECT_DOUBLE_EQ(s.tolerance, want[s.level]);
 			EXPECT_EQ(s.targetFaces, 0u);
-			// levels by error: the proven bound itself within the target (DESIGN 23)
+			// levels by error: the proven bound itself within the target (DESIGN 23), or, where
+			// the collapses went past it, the certified distance (DESIGN 52)
 			EXPECT_GE(s.distanceBound, 0);
-			EXPECT_LE(s.distanceBound, want[s.level] * diag * (1 + 1e-5));
+			EXPECT_GE(s.hausdorff, 0);
+			EXPECT_TRUE(s.distanceBound <= want[s.level] * diag * (1 + 1e-5) ||
+			            s.hausdorff <= want[s.level] * diag)
+			    << s.distanceBound << " " << s.hausdorff;
 			EXPECT_TRUE(s.targetReached);
 			EXPECT_EQ(verticesBeyond(m, lm, want[s.level] * diag * (1 + 1e-6)), 0u);
 			EXPECT_LE(s.faces, finer);
 			finer = s.faces;
+		}
+		// without the certificate the bound decides: within the target, and no fewer faces
+		Params bound = prm;
+		bound.certifyDistance = false;
+		const Result u = buildLevels(m.view(), bound);
+		ASSERT_TRUE(u.ok) << u.error;
+		for (size_t i = 0; i < u.levels.size(); ++i) {
+			EXPECT_LE(u.levels[i].stats.distanceBound,
+			          want[u.levels[i].stats.level] * diag * (1 + 1e-5));
+			EXPECT_LE(r.levels[i].stats.faces, u.levels[i].stats.faces);
 		}
 		// a list that is what maxDistance and distanceGrowth give: the same tolerances; the list
 		// (levels by error) keeps the proven bound within them too, the default only what the
@@ -268,8 +282,10 @@ TEST(Quality, levels_by_error_bound_each_levels_measured_distance)
 		ASSERT_TRUE(a.ok && b.ok);
 		for (size_t i = 0; i < 2; ++i) {
 			EXPECT_DOUBLE_EQ(a.levels[i].stats.tolerance, b.levels[i].stats.tolerance);
-			EXPECT_LE(a.levels[i].stats.distanceBound,
-			          a.levels[i].stats.tolerance * diag * (1 + 1e-5));
+			const LevelStats &as = a.levels[i].stats;
+			EXPECT_TRUE(as.distanceBound <= as.tolerance * diag * (1 + 1e-5) ||
+			            (as.hausdorff >= 0 && as.hausdorff <= as.tolerance * diag))
+			    << as.distanceBound << " " << as.hausdorff;
 			EXPECT_EQ(
 			    verticesBeyond(m, b.levels[i], b.levels[i].stats.tolerance * diag * (1 + 1e-6)),
 			    0u);

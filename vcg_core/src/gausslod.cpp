@@ -100,6 +100,11 @@ double since(std::chrono::steady_clock::time_point t0)
 // DESIGN 52: the level's two-sided Hausdorff distance to the caller's input, certified within
 // kCertifyEps; the input's tree is built for the first level that needs it.
 constexpr double kCertifyEps = 0.05;
+// Levels by error, certified (DESIGN 52): the collapses' bound is searched up to this many times
+// the asked error (the construction's bound measured a median 5x the true distance), in this
+// many builds.
+constexpr double kErrorReach = 8;
+constexpr int kErrorTrials = 4;
 constexpr size_t kCertifyPieces = 64; // per triangle of both sides: the refinement's budget
 
 void certify(const MeshView &input, LevelMesh &level, std::unique_ptr<detail::TriangleTree> &inputTree,
@@ -401,8 +406,10 @@ void setTargetStats(const Params &p, int level, size_t target, double diagonal, 
 		st.targetReached = st.faces <= target;
 	} else if (!p.levelDistances.empty()) {
 		st.targetDistance = p.levelDistances[size_t(level)];
-		// (the level's distance bound, rounded up as a float: DESIGN 23)
-		st.targetReached = st.distanceBound <= st.targetDistance * diagonal * (1 + 1e-5);
+		// (the level's distance bound, rounded up as a float: DESIGN 23; or its certified
+		// Hausdorff distance, DESIGN 52: both are proven)
+		st.targetReached = st.distanceBound <= st.targetDistance * diagonal * (1 + 1e-5) ||
+		                   (st.hausdorff >= 0 && st.hausdorff <= st.targetDistance * diagonal);
 	}
 }
 
@@ -726,11 +733,47 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 				              std::sqrt(double(full.faceCount) / double(std::max<size_t>(seen, 1)));
 				rl.texErrorSoft = !byError;
 			}
+			bool certifiedByTrials = false;
 			if (reduce) {
 				needChain();
 				ReduceReport rr;
 				CollapseSource reduced;
-				const bool got = reduceLevel(topo, mesh, chain, rl, threads, reduced, rr);
+				bool got;
+				if (byError && params.certifyDistance) {
+					// DESIGN 52: levels by error decide by the certified distance: the collapses'
+					// bound searched (kErrorTrials builds, 1 to kErrorReach x the asked error) for
+					// the fewest faces whose certified Hausdorff distance is within the asked
+					// error (the proven bound at 1 x is)
+					const double asked = rl.bound;
+					auto trial = [&](double k, CollapseSource &out, ReduceReport &r) {
+						ReduceLimits t = rl;
+						t.bound = asked * k;
+						const bool g = reduceLevel(topo, mesh, chain, t, threads, out, r);
+						certify(input, out.mesh, inputTree, threads);
+						return g && (k <= 1 || out.mesh.stats.hausdorff <= asked);
+					};
+					// (first the proven build at 1 x; where its certified distance leaves room
+					// (under 0.9 x the error), the factor's logarithm bisected from kErrorReach
+					// down: the distance is not monotone in the bound, the bracket only a search)
+					got = trial(1.0, reduced, rr);
+					double lo = 0, hi = std::log(kErrorReach);
+					for (int i = 0; got && reduced.mesh.stats.hausdorff < 0.9 * asked && i < kErrorTrials;
+					     ++i) {
+						const double k = i == 0 ? hi : 0.5 * (lo + hi);
+						CollapseSource c;
+						ReduceReport r;
+						if (trial(std::exp(k), c, r)) {
+							reduced = std::move(c), rr = r, lo = k;
+							if (i == 0)
+								break;
+						} else {
+							hi = k;
+						}
+					}
+					certifiedByTrials = true;
+				} else {
+					got = reduceLevel(topo, mesh, chain, rl, threads, reduced, rr);
+				}
 				const LevelStats &rs = reduced.mesh.stats;
 				const LevelStats &o = takeCollapsed ? collapsed.mesh.stats : lm.stats;
 				bool take;
@@ -746,6 +789,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 				else
 					take = rs.faces < o.faces ||
 					       (rs.faces == o.faces && rs.distanceBound < o.distanceBound);
+				certifiedByTrials = certifiedByTrials && take;
 				if (take) {
 					collapsed = std::move(reduced);
 					collapsed.mesh.stats.reduced = true;
@@ -783,15 +827,21 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 				st.maxTexError = c.maxTexError;
 				st.texErrorLimit = c.texErrorLimit;
 				st.reusedFiner = c.collapses == 0; // (collapses made a mesh of its own)
+				if (certifiedByTrials) { // (certified by the error search, above)
+					st.hausdorff = c.hausdorff;
+					st.hausdorffLower = c.hausdorffLower;
+					st.hausdorffConverged = c.hausdorffConverged;
+					st.secondsHausdorff = c.secondsHausdorff;
+				}
 			}
 			LevelMesh &out = takeCollapsed ? collapsed.mesh : lm;
-			setTargetStats(params, level, target, topo.diagonal, out.stats);
-			if (params.certifyDistance) { // DESIGN 52: the level's distance to the input, certified
+			if (params.certifyDistance && !certifiedByTrials) { // DESIGN 52: certified
 				if (!report(0.05 + 0.95 * (double(finest - level) + 0.5) / params.maxLevel,
 				            "certifying the level's distance"))
 					return false;
 				certify(input, out, inputTree, threads);
 			}
+			setTargetStats(params, level, target, topo.diagonal, out.stats);
 			if (const size_t lost = uncoveredFaces(topo, out))
 				return fail(res, ErrorKind::Internal,
 				            "internal error: level " + std::to_string(level) +
