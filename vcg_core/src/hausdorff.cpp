@@ -55,18 +55,28 @@ struct Piece {
 
 // A convex polygon of a piece (the piece cut by planes), with each corner's distance to each
 // candidate triangle.
+constexpr int kPolyCorners = 16;
 struct Poly {
-	Vec3 v[9];
+	Vec3 v[kPolyCorners];
 	int n = 0;
 };
 
-// Cuts `in` by the plane m.(x - o) = 0 into its part below (m.(x - o) <= 0) and above.
-void cut(const Poly &in, const Vec3 &m, const Vec3 &o, Poly &below, Poly &above)
+// Cuts `in` by the plane m.(x - o) = 0 into its part below (m.(x - o) <= 0) and above. False
+// (nothing cut) if a part would have more corners than a Poly holds: a convex polygon gains at
+// most one per cut, so only a piece cut many times, or rounding, gets there.
+bool cut(const Poly &in, const Vec3 &m, const Vec3 &o, Poly &below, Poly &above)
 {
 	below.n = above.n = 0;
-	double s[9];
+	double s[kPolyCorners];
+	int crossings = 0;
 	for (int i = 0; i < in.n; ++i)
 		s[i] = m.dot(in.v[i] - o);
+	for (int i = 0; i < in.n; ++i) {
+		const int j = (i + 1) % in.n;
+		crossings += (s[i] < 0 && s[j] > 0) || (s[i] > 0 && s[j] < 0);
+	}
+	if (in.n + crossings > kPolyCorners)
+		return false;
 	for (int i = 0; i < in.n; ++i) {
 		const int j = (i + 1) % in.n;
 		if (s[i] <= 0)
@@ -80,6 +90,7 @@ void cut(const Poly &in, const Vec3 &m, const Vec3 &o, Poly &below, Poly &above)
 			above.v[above.n++] = x;
 		}
 	}
+	return true;
 }
 
 // The plane between triangles f and g of `to` that cuts a piece near both into the part nearer
@@ -155,17 +166,25 @@ int gather(const TriangleTree &to, const Piece &pc, int32_t *out)
 // 2D polygon clipping for the cover bound: keeps the part of `in` left of a->b (s = +1) or
 // right of it (s = -1).
 struct Poly2 {
-	double x[12], y[12];
+	double x[kPolyCorners], y[kPolyCorners];
 	int n = 0;
 };
 
-void clip2(const Poly2 &in, double ax, double ay, double bx, double by, double s, Poly2 &out)
+// False (out empty) if the part would have more corners than a Poly2 holds (see cut).
+bool clip2(const Poly2 &in, double ax, double ay, double bx, double by, double s, Poly2 &out)
 {
 	out.n = 0;
-	double side[12];
+	double side[kPolyCorners];
+	int crossings = 0;
 	for (int i = 0; i < in.n; ++i)
 		side[i] = s * ((bx - ax) * (in.y[i] - ay) - (by - ay) * (in.x[i] - ax));
-	for (int i = 0; i < in.n && out.n < 11; ++i) {
+	for (int i = 0; i < in.n; ++i) {
+		const int j = (i + 1) % in.n;
+		crossings += (side[i] > 0 && side[j] < 0) || (side[i] < 0 && side[j] > 0);
+	}
+	if (in.n + crossings > kPolyCorners)
+		return false;
+	for (int i = 0; i < in.n; ++i) {
 		const int j = (i + 1) % in.n;
 		if (side[i] >= 0)
 			out.x[out.n] = in.x[i], out.y[out.n++] = in.y[i];
@@ -175,6 +194,7 @@ void clip2(const Poly2 &in, double ax, double ay, double bx, double by, double s
 			out.y[out.n++] = in.y[i] + (in.y[j] - in.y[i]) * t;
 		}
 	}
+	return true;
 }
 
 double area2(const Poly2 &p)
@@ -283,7 +303,8 @@ double coverBound(const TriangleTree &to, const Piece &pc, double target)
 		const double sign = a > 0 ? 1 : -1;
 		Poly2 cell = piece, tmp;
 		for (int k = 0; k < 3 && cell.n >= 3; ++k) {
-			clip2(cell, s[k][0], s[k][1], s[(k + 1) % 3][0], s[(k + 1) % 3][1], sign, tmp);
+			if (!clip2(cell, s[k][0], s[k][1], s[(k + 1) % 3][0], s[(k + 1) % 3][1], sign, tmp))
+				return HUGE_VAL;
 			cell = tmp;
 		}
 		const double ca = cell.n >= 3 ? std::fabs(area2(cell)) : 0.0;
@@ -352,7 +373,10 @@ double splitBound(const TriangleTree &to, const Piece &pc, double target)
 		int nn = 0;
 		for (int q = 0; q < np; ++q) {
 			Poly lo, hi;
-			cut(polys[q], m, o, lo, hi);
+			if (!cut(polys[q], m, o, lo, hi)) { // (the part stays whole: still a partition)
+				next[nn++] = polys[q];
+				continue;
+			}
 			if (lo.n >= 3)
 				next[nn++] = lo;
 			if (hi.n >= 3)
