@@ -93,22 +93,20 @@ inline bool writeLevelPly(const LevelMesh &level, const std::string &file, bool 
 		const size_t nv = level.positions.size() / 3, nf = level.triangles.size() / 3;
 		std::string header = "ply\nformat binary_little_endian 1.0\ncomment GaussLOD level " +
 		                     std::to_string(level.stats.level) + "\n";
-		if (level.stats.distanceBound >= 0) { // (for a renderer choosing the level by error)
-			char line[160];
-			std::snprintf(line, sizeof line,
-			              "comment GaussLOD distance_bound %.9g (upper bound on the distance to "
-			              "the input, mesh units)\n",
-			              level.stats.distanceBound);
-			header += line;
-		}
-		if (level.stats.hausdorff >= 0) { // (DESIGN 52: certified, usually far below the bound)
+		// (for a renderer choosing the level by error: the construction's bound, and the
+		// certified distance, DESIGN 52, usually far below it)
+		auto comment = [&](const char *name, double value, const char *what) {
 			char line[200];
-			std::snprintf(line, sizeof line,
-			              "comment GaussLOD hausdorff %.9g (certified upper bound on the "
-			              "Hausdorff distance to the input, mesh units)\n",
-			              level.stats.hausdorff);
+			std::snprintf(line, sizeof line, "comment GaussLOD %s %.9g (%s, mesh units)\n", name,
+			              value, what);
 			header += line;
-		}
+		};
+		if (level.stats.distanceBound >= 0)
+			comment("distance_bound", level.stats.distanceBound,
+			        "upper bound on the distance to the input");
+		if (level.stats.hausdorff >= 0)
+			comment("hausdorff", level.stats.hausdorff,
+			        "certified upper bound on the Hausdorff distance to the input");
 		header += "element vertex " + std::to_string(nv) +
 		          "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
 		          std::to_string(nf) + "\nproperty list uchar int vertex_indices\n";
