@@ -95,6 +95,21 @@ TEST(CertifiedHausdorff, a_mesh_against_itself_is_zero)
 	EXPECT_LE(h.upper, 1e-9);
 }
 
+TEST(CertifiedHausdorff, triangles_a_level_keeps_from_its_input_are_bounded_by_the_cover)
+{
+	// (a level keeps most of its input's triangles as they are: the copy of each covers it,
+	// though the patch's border runs along its edges; only near the vertex moved is a piece cut)
+	const int cells = 12;
+	const Tris in =
+	    grid(cells, [](double x, double y) { return 0.1 * std::sin(6 * x) * std::cos(5 * y); });
+	Tris level = in;
+	level.P[3 * size_t((cells / 2) * (cells + 1) + cells / 2) + 2] += 0.01;
+	const HausdorffBounds h = certified(level, in);
+	expectBracketed(h, sampledDistance(level, in, 40));
+	EXPECT_GE(h.byCover, in.n() / 2);
+	EXPECT_LE(h.bySplit, 12u);
+}
+
 TEST(CertifiedHausdorff, a_bumpy_grid_against_its_flat_square_is_its_amplitude)
 {
 	// (the bumps peak at grid vertices: both directions are exactly the amplitude)

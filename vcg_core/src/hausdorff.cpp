@@ -50,6 +50,7 @@ struct Piece {
 	int32_t n[3];
 	bool exact[3]; ///< d is the distance to the whole set (else only to triangle n: above it)
 	double u;
+	BoundBy by; ///< which bound gave u
 	bool operator<(const Piece &o) const { return u < o.u; }
 };
 
@@ -207,7 +208,8 @@ double area2(const Poly2 &p)
 	return 0.5 * a;
 }
 
-// Whether segment a-b meets the triangle q (counter-clockwise), with a margin.
+// Whether segment a-b meets the triangle q (counter-clockwise) grown by `margin` (shrunk if it is
+// negative).
 bool segmentMeetsTriangle(const double *a, const double *b, const double (*q)[2], double margin)
 {
 	auto inside = [&](const double *p) {
@@ -282,7 +284,19 @@ double coverBound(const TriangleTree &to, const Piece &pc, double target)
 	             qhi[2] = {std::max({q[0][0], q[1][0], q[2][0]}),
 	                       std::max({q[0][1], q[1][1], q[2][1]})};
 	const double pieceArea = area2(piece);
-	const double margin = 1e-9 * l1;
+	// (the patch's border may run along P's edges, as where a triangle of B is P itself: it is
+	// checked against P shrunk by 1e-7 of its inradius, and the points of P outside that are
+	// within 1e-7 x P's longest edge of it, towards P's incentre: the bound is raised by that;
+	// a sliver is checked against P grown instead)
+	double perimeter = 0, longest = 0;
+	for (int k = 0; k < 3; ++k) {
+		const double e = std::hypot(q[(k + 1) % 3][0] - q[k][0], q[(k + 1) % 3][1] - q[k][1]);
+		perimeter += e, longest = std::max(longest, e);
+	}
+	const double inradius = 2 * pieceArea / perimeter;
+	const bool shrunk = inradius >= 1e-6 * l1;
+	const double margin = shrunk ? -1e-7 * inradius : 1e-9 * l1;
+	const double edgePad = shrunk ? 1e-7 * longest : 0.0;
 	int32_t patch[kCap];
 	int np = 0;
 	int orient = 0;
@@ -349,7 +363,7 @@ double coverBound(const TriangleTree &to, const Piece &pc, double target)
 				return HUGE_VAL;
 		}
 	}
-	return std::sqrt(bound2);
+	return std::sqrt(bound2) + edgePad;
 }
 
 // The piece cut by the planes between the triangles near it (gather): each part is bounded by
@@ -437,8 +451,9 @@ double splitBound(const TriangleTree &to, const Piece &pc, double target)
 	return std::sqrt(split2);
 }
 
-double upperBound(const TriangleTree &to, const Piece &pc, double target)
+double upperBound(const TriangleTree &to, const Piece &pc, double target, BoundBy &by)
 {
+	by = BoundBy::corners;
 	double u = HUGE_VAL;
 	for (int i = 0; i < 3; ++i) { // (Lipschitz, from each corner)
 		double r = 0;
@@ -460,11 +475,16 @@ double upperBound(const TriangleTree &to, const Piece &pc, double target)
 	}
 	if (u <= target)
 		return u;
+	by = BoundBy::cover;
 	const double c = coverBound(to, pc, target);
 	if (c <= target)
 		return c;
+	by = BoundBy::split;
 	const double d = splitBound(to, pc, target);
-	return d <= target ? d : u;
+	if (d <= target)
+		return d;
+	by = BoundBy::corners;
+	return u;
 }
 
 } // namespace
@@ -706,6 +726,7 @@ HausdorffBounds directedHausdorff(const TriangleTree &from, const TriangleTree &
 	// each triangle's bound; those above the factor into a queue, largest bound first
 	const double factor = 1 + eps;
 	std::vector<double> u(tris.size());
+	std::vector<BoundBy> by(tris.size());
 	parallelRanges(tris.size(), threads, [&](size_t b, size_t e, size_t) {
 		for (size_t i = b; i < e; ++i) {
 			Piece pc;
@@ -714,13 +735,15 @@ HausdorffBounds directedHausdorff(const TriangleTree &from, const TriangleTree &
 				pc.p[k] = pos(q), pc.d[k] = vd[size_t(q)], pc.n[k] = vn[size_t(q)],
 				pc.exact[k] = true;
 			}
-			u[i] = upperBound(to, pc, factor * std::max(lower, known));
+			u[i] = upperBound(to, pc, factor * std::max(lower, known), by[i]);
 		}
 	});
 	auto enough = [&](double x) { return x <= factor * std::max(lower, known); };
 	double settled = lower; // (the largest bound of a piece not refined further)
 	std::priority_queue<Piece> queue;
 	for (size_t i = 0; i < tris.size(); ++i) {
+		out.byCover += by[i] == BoundBy::cover;
+		out.bySplit += by[i] == BoundBy::split;
 		if (enough(u[i])) {
 			settled = std::max(settled, u[i]);
 			continue;
@@ -790,7 +813,7 @@ HausdorffBounds directedHausdorff(const TriangleTree &from, const TriangleTree &
 				for (int k = 0; k < 3; ++k)
 					c[3].p[k] = m[k], c[3].d[k] = md[k], c[3].n[k] = mn[k], c[3].exact[k] = mx[k];
 				for (int k = 0; k < 4; ++k)
-					c[k].u = upperBound(to, c[k], factor * std::max(lower, known));
+					c[k].u = upperBound(to, c[k], factor * std::max(lower, known), c[k].by);
 			}
 		});
 		for (const Piece &c : kids)
@@ -798,6 +821,8 @@ HausdorffBounds directedHausdorff(const TriangleTree &from, const TriangleTree &
 				if (c.exact[k])
 					lower = std::max(lower, c.d[k]);
 		for (const Piece &c : kids) {
+			out.byCover += c.by == BoundBy::cover;
+			out.bySplit += c.by == BoundBy::split;
 			if (enough(c.u))
 				settled = std::max(settled, c.u);
 			else
@@ -829,6 +854,8 @@ HausdorffBounds hausdorff(const TriangleTree &a, const TriangleTree &b, double e
 	out.lower = std::max(ab.lower, ba.lower);
 	out.upper = std::max(ab.upper, ba.upper);
 	out.pieces = ab.pieces + ba.pieces;
+	out.byCover = ab.byCover + ba.byCover;
+	out.bySplit = ab.bySplit + ba.bySplit;
 	out.converged = ab.converged && ba.converged;
 	return out;
 }

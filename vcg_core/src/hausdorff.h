@@ -43,10 +43,16 @@ private:
 	Vec3 v(int32_t f, int k) const;
 };
 
+/// Which bound of a piece held it (hausdorff.cpp): its corners (Lipschitz, convexity), the cover
+/// by the other side's triangles, the split by planes between them.
+enum class BoundBy : uint8_t { corners, cover, split };
+
 struct HausdorffBounds {
 	double lower = 0;      ///< the largest distance measured at a point (a true distance)
 	double upper = 0;      ///< every point of each set is at most this far from the other set
 	size_t pieces = 0;     ///< sub-triangles evaluated
+	size_t byCover = 0;    ///< pieces bounded by the cover
+	size_t bySplit = 0;    ///< pieces bounded by the split
 	bool converged = true; ///< upper <= (1 + eps) x lower (else the piece budget ran out)
 };
 
