@@ -73,13 +73,13 @@ bool cut(const Poly &in, const Vec3 &m, const Vec3 &o, Poly &below, Poly &above)
 	for (int i = 0; i < in.n; ++i)
 		s[i] = m.dot(in.v[i] - o);
 	for (int i = 0; i < in.n; ++i) {
-		const int j = (i + 1) % in.n;
+		const int j = i + 1 == in.n ? 0 : i + 1;
 		crossings += (s[i] < 0 && s[j] > 0) || (s[i] > 0 && s[j] < 0);
 	}
 	if (in.n + crossings > kPolyCorners)
 		return false;
 	for (int i = 0; i < in.n; ++i) {
-		const int j = (i + 1) % in.n;
+		const int j = i + 1 == in.n ? 0 : i + 1;
 		if (s[i] <= 0)
 			below.v[below.n++] = in.v[i];
 		if (s[i] >= 0)
@@ -180,13 +180,13 @@ bool clip2(const Poly2 &in, double ax, double ay, double bx, double by, double s
 	for (int i = 0; i < in.n; ++i)
 		side[i] = s * ((bx - ax) * (in.y[i] - ay) - (by - ay) * (in.x[i] - ax));
 	for (int i = 0; i < in.n; ++i) {
-		const int j = (i + 1) % in.n;
+		const int j = i + 1 == in.n ? 0 : i + 1;
 		crossings += (side[i] > 0 && side[j] < 0) || (side[i] < 0 && side[j] > 0);
 	}
 	if (in.n + crossings > kPolyCorners)
 		return false;
 	for (int i = 0; i < in.n; ++i) {
-		const int j = (i + 1) % in.n;
+		const int j = i + 1 == in.n ? 0 : i + 1;
 		if (side[i] >= 0)
 			out.x[out.n] = in.x[i], out.y[out.n++] = in.y[i];
 		if ((side[i] > 0 && side[j] < 0) || (side[i] < 0 && side[j] > 0)) {
@@ -202,7 +202,7 @@ double area2(const Poly2 &p)
 {
 	double a = 0;
 	for (int i = 0; i < p.n; ++i) {
-		const int j = (i + 1) % p.n;
+		const int j = i + 1 == p.n ? 0 : i + 1;
 		a += p.x[i] * p.y[j] - p.x[j] * p.y[i];
 	}
 	return 0.5 * a;
@@ -315,12 +315,15 @@ double coverBound(const TriangleTree &to, const Piece &pc, double target)
 		const double a = 0.5 * ((s[1][0] - s[0][0]) * (s[2][1] - s[0][1]) -
 		                        (s[2][0] - s[0][0]) * (s[1][1] - s[0][1]));
 		const double sign = a > 0 ? 1 : -1;
-		Poly2 cell = piece, tmp;
-		for (int k = 0; k < 3 && cell.n >= 3; ++k) {
-			if (!clip2(cell, s[k][0], s[k][1], s[(k + 1) % 3][0], s[(k + 1) % 3][1], sign, tmp))
+		Poly2 buf[2];
+		const Poly2 *in = &piece;
+		for (int k = 0; k < 3 && in->n >= 3; ++k) {
+			Poly2 &out = buf[k & 1];
+			if (!clip2(*in, s[k][0], s[k][1], s[(k + 1) % 3][0], s[(k + 1) % 3][1], sign, out))
 				return HUGE_VAL;
-			cell = tmp;
+			in = &out;
 		}
+		const Poly2 &cell = *in;
 		const double ca = cell.n >= 3 ? std::fabs(area2(cell)) : 0.0;
 		if (!(ca > 1e-12 * pieceArea))
 			continue; // (does not cover a part of P; its edges are checked as the patch's border)
@@ -540,7 +543,21 @@ TriangleTree::TriangleTree(const double *P, const int32_t *T, size_t nT) : P_(P)
 	}
 	nodes_.reserve(2 * (tri_.size() / kLeafSize + 1));
 	// (depth first: a node's left child is the next node; the split is at the median centroid
-	// along the longest side of the centroids' box)
+	// along the longest side of the centroids' box; the centroids (as corner sums) travel with
+	// the triangles, the boxes are made bottom up)
+	struct Item {
+		double c[3];
+		int32_t f;
+	};
+	std::vector<Item> items(tri_.size());
+	for (size_t i = 0; i < tri_.size(); ++i) {
+		const int32_t f = tri_[i];
+		items[i].f = f;
+		for (int j = 0; j < 3; ++j)
+			items[i].c[j] = P_[3 * size_t(T_[3 * size_t(f)]) + size_t(j)] +
+			                P_[3 * size_t(T_[3 * size_t(f) + 1]) + size_t(j)] +
+			                P_[3 * size_t(T_[3 * size_t(f) + 2]) + size_t(j)];
+	}
 	struct Task {
 		int32_t first, count, parent;
 	};
@@ -552,43 +569,48 @@ TriangleTree::TriangleTree(const double *P, const int32_t *T, size_t nT) : P_(P)
 		if (t.parent >= 0)
 			nodes_[size_t(t.parent)].right = id;
 		Node n;
-		n.lo = n.hi = v(tri_[size_t(t.first)], 0);
-		Vec3 clo(HUGE_VAL, HUGE_VAL, HUGE_VAL), chi = -clo;
-		for (int32_t i = t.first; i < t.first + t.count; ++i) {
-			Vec3 c(0, 0, 0);
-			for (int k = 0; k < 3; ++k) {
-				const Vec3 q = v(tri_[size_t(i)], k);
-				c += q;
-				for (int j = 0; j < 3; ++j)
-					n.lo[j] = std::min(n.lo[j], q[j]), n.hi[j] = std::max(n.hi[j], q[j]);
-			}
-			for (int j = 0; j < 3; ++j)
-				clo[j] = std::min(clo[j], c[j]), chi[j] = std::max(chi[j], c[j]);
-		}
 		n.first = t.first;
 		n.count = t.count;
 		n.right = -1;
 		if (t.count <= kLeafSize) {
+			n.lo = n.hi = v(items[size_t(t.first)].f, 0);
+			for (int32_t i = t.first; i < t.first + t.count; ++i)
+				for (int k = 0; k < 3; ++k) {
+					const Vec3 q = v(items[size_t(i)].f, k);
+					for (int j = 0; j < 3; ++j)
+						n.lo[j] = std::min(n.lo[j], q[j]), n.hi[j] = std::max(n.hi[j], q[j]);
+				}
 			nodes_.push_back(n);
 			continue;
 		}
+		double clo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, chi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+		for (int32_t i = t.first; i < t.first + t.count; ++i)
+			for (int j = 0; j < 3; ++j)
+				clo[j] = std::min(clo[j], items[size_t(i)].c[j]),
+				chi[j] = std::max(chi[j], items[size_t(i)].c[j]);
 		n.count = -1;
+		n.lo = n.hi = Vec3(0, 0, 0); // (made from its children's below)
 		nodes_.push_back(n);
-		const Vec3 ext = chi - clo;
+		const double ext[3] = {chi[0] - clo[0], chi[1] - clo[1], chi[2] - clo[2]};
 		const int axis = ext[0] >= ext[1] && ext[0] >= ext[2] ? 0 : ext[1] >= ext[2] ? 1 : 2;
 		const int32_t half = t.count / 2;
-		auto key = [&](int32_t f) {
-			return P_[3 * size_t(T_[3 * size_t(f)]) + size_t(axis)] +
-			       P_[3 * size_t(T_[3 * size_t(f) + 1]) + size_t(axis)] +
-			       P_[3 * size_t(T_[3 * size_t(f) + 2]) + size_t(axis)];
-		};
-		std::nth_element(tri_.begin() + t.first, tri_.begin() + t.first + half,
-		                 tri_.begin() + t.first + t.count, [&](int32_t a, int32_t b) {
-			                 const double ka = key(a), kb = key(b);
-			                 return ka < kb || (ka == kb && a < b);
+		std::nth_element(items.begin() + t.first, items.begin() + t.first + half,
+		                 items.begin() + t.first + t.count, [axis](const Item &a, const Item &b) {
+			                 return a.c[axis] < b.c[axis] || (a.c[axis] == b.c[axis] && a.f < b.f);
 		                 });
 		stack.push_back({t.first + half, t.count - half, id}); // (right, built after the left)
 		stack.push_back({t.first, half, -1});
+	}
+	for (size_t i = 0; i < items.size(); ++i)
+		tri_[i] = items[i].f;
+	// (an inner node's children come after it)
+	for (size_t i = nodes_.size(); i-- > 0;) {
+		Node &n = nodes_[i];
+		if (n.count >= 0)
+			continue;
+		const Node &l = nodes_[i + 1], &r = nodes_[size_t(n.right)];
+		for (int j = 0; j < 3; ++j)
+			n.lo[j] = std::min(l.lo[j], r.lo[j]), n.hi[j] = std::max(l.hi[j], r.hi[j]);
 	}
 }
 
