@@ -22,7 +22,7 @@ need_root() {
 pkgs=(meshlab qtbase5-dev libqt5opengl5-dev libqt5xmlpatterns5-dev libglew-dev libglu1-mesa-dev
       libeigen3-dev cmake g++ make xvfb xauth libgtest-dev libcgal-dev libgmp-dev libmpfr-dev
       dpkg-dev xdotool imagemagick x11-utils clang libclang-rt-14-dev
-      assimp-testmodels parallel valgrind)
+      assimp-testmodels parallel valgrind libtinygltf-dev nodejs npm chromium)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -29,7 +29,10 @@ struct Options {
 	int maxLevel = gausslod::Params{}.maxLevel; ///< --max-level (the levels by angle)
 	bool colour = true;                ///< --colour-superfaces (only where the input has no colour)
 	bool overwriteColours = false;     ///< --overwrite-colours: superface colours replace the input's
-	std::string format;                ///< --format ply|obj|off|stl; "" = the input's
+	std::string format;                ///< --format ply|obj|off|stl|glb; "" = the input's
+	bool lodFile = false;              ///< --lod-file: the chain as one glb with MSFT_lod
+	bool tiles = false;                ///< --3dtiles: a 3D Tiles tileset of glb levels
+	std::vector<double> tilesTransform; ///< --tiles-transform: the root's (16, column major)
 	bool json = false;
 };
 

@@ -11,12 +11,14 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <cmath>
 #include <cstring>
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
 #include <memory>
 #include <new>
+#include <sstream>
 #include <string>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -183,7 +185,16 @@ const char *optionHelp()
 		     "                         coordinates) (true)\n"
 		     "  --overwrite-colours    colour faces by superface even where the input has\n"
 		     "                         colours (they are then not written)\n"
-		     "  --format F             ply, obj (+ .mtl), off or stl (the input's)\n"
+		     "  --format F             ply, obj (+ .mtl), off, stl or glb (binary glTF: colours,\n"
+		     "                         texture coordinates and PNG/JPEG textures embedded)\n"
+		     "                         (the input's)\n"
+		     "  --lod-file             glb: also OUTDIR/<name>_lods.glb, the whole chain in one\n"
+		     "                         file (MSFT_lod on the full-detail node, screen coverage\n"
+		     "                         from each level's distance)\n"
+		     "  --3dtiles              glb levels, the input as OUTDIR/<name>_full.glb and\n"
+		     "                         OUTDIR/tileset.json (3D Tiles 1.1: coarsest at the root,\n"
+		     "                         each tile's geometricError its level's distance)\n"
+		     "  --tiles-transform M    16 numbers, column major: the tileset root's transform\n"
 		     "  --json                 one JSON line per level instead of the table\n"
 		     "  earlier spellings: --levels N, --straighten P, --merge P, --paper-superfaces\n"
 		     "  (= --across-cells false), --no-weld (= --weld-vertices false), --no-colour\n";
@@ -205,16 +216,44 @@ bool parseOptions(const std::vector<std::string> &args, Options &o,
 				valueGiven = *alias[2] != 0;
 				value = alias[2];
 			}
-		if (flag == "--json" || flag == "--overwrite-colours") {
-			(flag == "--json" ? o.json : o.overwriteColours) = true;
+		if (flag == "--json" || flag == "--overwrite-colours" || flag == "--lod-file" ||
+		    flag == "--3dtiles") {
+			(flag == "--json"       ? o.json
+			 : flag == "--lod-file" ? o.lodFile
+			 : flag == "--3dtiles"  ? o.tiles
+			                        : o.overwriteColours) = true;
+			if (flag == "--lod-file" || flag == "--3dtiles")
+				o.format = "glb";
+			continue;
+		}
+		if (flag == "--tiles-transform") {
+			if (i + 1 >= args.size())
+				return error = "--tiles-transform needs 16 numbers", false;
+			o.tilesTransform.clear();
+			std::string v = args[++i];
+			for (char &c : v)
+				c = c == ',' ? ' ' : c;
+			std::istringstream in(v);
+			double x;
+			while (in >> x)
+				o.tilesTransform.push_back(x);
+			if (o.tilesTransform.size() != 16 || !in.eof())
+				return error = "--tiles-transform needs 16 numbers", false;
+			for (const double t : o.tilesTransform)
+				if (!std::isfinite(t))
+					return error = "--tiles-transform needs 16 finite numbers", false;
 			continue;
 		}
 		if (flag == "--format") {
 			if (i + 1 >= args.size())
 				return error = "--format needs a value", false;
 			o.format = args[++i];
+			for (char &c : o.format)
+				c = char(std::tolower(static_cast<unsigned char>(c)));
+			if (o.format == "glb")
+				continue;
 			if (gausslod::formatNamed(o.format) == gausslod::MeshFormat::Unknown)
-				return error = "--format needs ply, obj, off or stl", false;
+				return error = "--format needs ply, obj, off, stl or glb", false;
 			o.format = gausslod::formatExtension(gausslod::formatNamed(o.format));
 			continue;
 		}
@@ -252,6 +291,12 @@ bool parseOptions(const std::vector<std::string> &args, Options &o,
 		               std::to_string(o.params.maxLevel) + " levels (one per target); --max-level " +
 		               std::to_string(o.maxLevel) + " disagrees (leave it out)",
 		       false;
+	if ((o.lodFile || o.tiles) && o.format != "glb")
+		return error = std::string(o.tiles ? "--3dtiles" : "--lod-file") +
+		               " writes glb levels; --format " + o.format + " disagrees",
+		       false;
+	if (!o.tilesTransform.empty() && !o.tiles)
+		return error = "--tiles-transform is for --3dtiles", false;
 	error = gausslod::validateParams(o.params);
 	return error.empty() &&
 	       gausslod::parseOutputLevels(o.outputLevels, o.params.maxLevel, o.params.outputLevels, error);
@@ -438,6 +483,101 @@ Outcome checkOne(const std::string &input, const Options &o)
 	});
 }
 
+namespace {
+
+// The distance a renderer may take for a level: its certified Hausdorff distance, else the
+// construction's bound, else the input's diagonal (nothing proven).
+double levelError(const gausslod::LevelStats &s, double diagonal)
+{
+	if (s.hausdorff >= 0 && std::isfinite(s.hausdorff))
+		return s.hausdorff;
+	if (s.distanceBound >= 0 && std::isfinite(s.distanceBound))
+		return s.distanceBound;
+	return diagonal;
+}
+
+// --lod-file and --3dtiles, once every level is written: the chain as one glb (MSFT_lod), and the
+// input as the full-detail tile under the levels' tileset.
+void writeChain(const InputMesh &in, const Options &o, const std::string &outdir,
+                const std::string &stem, const LevelWriter &writer, Outcome &out,
+                std::string &error)
+{
+	const std::vector<GltfMesh> &levels = writer.gltf(); // (finest first, as written)
+	const size_t nLevels = levels.size();
+	// the input as a level of its own: every face its own source
+	gausslod::LevelMesh whole;
+	const gausslod::FlatMesh &f = in.flat;
+	whole.positions = f.positions;
+	whole.triangles = f.triangles;
+	const size_t nf = f.triangles.size() / 3;
+	whole.sourceCorner.resize(3 * nf);
+	whole.sourceFace.resize(nf);
+	whole.superface.resize(nf);
+	whole.borderEdges.assign(nf, 7);
+	for (size_t i = 0; i < nf; ++i) {
+		whole.sourceFace[i] = whole.superface[i] = int32_t(i);
+		for (int k = 0; k < 3; ++k)
+			whole.sourceCorner[3 * i + size_t(k)] = int32_t(3 * i + size_t(k));
+	}
+	whole.sourceVertex.resize(f.positions.size() / 3);
+	for (size_t v = 0; v < whole.sourceVertex.size(); ++v)
+		whole.sourceVertex[v] = int32_t(v);
+	std::vector<std::string> files;
+	size_t vertices = 0;
+	if (!writer.writeNamed(whole, stem + "_full.glb", files, vertices, error))
+		return;
+	const GltfMesh &full = writer.gltf().back();
+	const double diagonal = out.diagonal > 0 ? out.diagonal : 1.0;
+	// errors from the finest level to the coarsest, never decreasing (a coarser level is not
+	// shown where a finer one would not be)
+	std::vector<double> errors;
+	for (const gausslod::LevelStats &s : out.levels)
+		errors.push_back(std::max(errors.empty() ? 0.0 : errors.back(), levelError(s, diagonal)));
+	if (o.lodFile) {
+		// MSFT_screencoverage: level i is shown while the object covers more of the screen's
+		// height than the coverage at which the next coarser level's error is one pixel of a
+		// 1080-pixel-high screen (the last: down to 0)
+		std::vector<const GltfMesh *> meshes{&full};
+		std::vector<double> coverage;
+		for (size_t i = 0; i < nLevels && i < errors.size(); ++i) {
+			meshes.push_back(&levels[i]);
+			coverage.push_back(errors[i] > 0 ? std::min(1.0, diagonal / (errors[i] * 1080.0)) : 1.0);
+		}
+		coverage.push_back(0.0);
+		const std::string file = outdir + "/" + stem + "_lods.glb",
+		                  tmp = outdir + "/." + stem + "_lods.glb.part-" + std::to_string(getpid());
+		std::string warning;
+		if (!writeGlb(meshes, coverage, tmp, warning, error) ||
+		    std::rename(tmp.c_str(), file.c_str()) != 0) {
+			if (error.empty())
+				error = "cannot write " + file + ": " + std::strerror(errno);
+			std::remove(tmp.c_str());
+			return;
+		}
+	}
+	if (o.tiles) {
+		std::vector<Tile> tiles;
+		auto tile = [&](const std::string &file, double e) {
+			Tile t;
+			const size_t slash = file.rfind('/');
+			t.content = slash == std::string::npos ? file : file.substr(slash + 1);
+			t.error = e;
+			// (a level's box grown by its distance: the input's box holds every level within it)
+			for (int j = 0; j < 3; ++j)
+				t.lo[j] = full.lo[j] - e, t.hi[j] = full.hi[j] + e;
+			tiles.push_back(t);
+		};
+		for (size_t i = nLevels; i-- > 0;)
+			if (i < out.files.size() && i < errors.size())
+				tile(out.files[i], errors[i]);
+		tile(files[0], 0.0);
+		if (!writeTileset(tiles, o.tilesTransform, outdir + "/tileset.json", error))
+			return;
+	}
+}
+
+} // namespace
+
 Outcome runOne(const std::string &input, const std::string &outdir, const std::string &stem,
                const Options &o, const LevelDone &done)
 {
@@ -457,7 +597,9 @@ Outcome runOne(const std::string &input, const std::string &outdir, const std::s
 					return false;
 				}
 				writer.reset(new LevelWriter(in, o, outdir));
-				out.format = gausslod::formatExtension(writer->format());
+				if (o.lodFile || o.tiles)
+					writer->keepGltf();
+				out.format = writer->extension();
 				out.attributes = writer->attributes();
 				out.superfaceColours = writer->superfaceColours();
 			}
@@ -474,6 +616,8 @@ Outcome runOne(const std::string &input, const std::string &outdir, const std::s
 		};
 		const gausslod::Result res = gausslod::buildLevels(in.flat.view(), p, {}, sink);
 		out.seconds = res.totalSeconds;
+		if (res.ok && writeError.empty() && writer && (o.lodFile || o.tiles))
+			writeChain(in, o, outdir, stem, *writer, out, writeError);
 		if (!writeError.empty())
 			setError(out, kCannotWrite, "write_failed", writeError);
 		else if (!res.ok)

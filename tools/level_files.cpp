@@ -135,13 +135,16 @@ void InputAttributes::take(const gausslod::IoAttrMesh &m, const gausslod::MeshAt
 LevelWriter::LevelWriter(const InputMesh &in, const Options &o, const std::string &outdir)
     : in_(in), outdir_(outdir)
 {
-	format_ = o.format.empty() ? in.format : gausslod::formatNamed(o.format);
-	if (format_ == MeshFormat::Unknown)
+	glb_ = o.format == "glb";
+	// (glb holds what PLY holds: its attributes are chosen as for PLY)
+	format_ = glb_ || o.format.empty() ? in.format : gausslod::formatNamed(o.format);
+	if (format_ == MeshFormat::Unknown || glb_)
 		format_ = MeshFormat::Ply;
 	outAttrs_ = in.attrs;
 	if (o.overwriteColours)
 		outAttrs_.vertColor = outAttrs_.faceColor = false;
-	superfaceColours_ = o.colour && (o.overwriteColours || !in.hasColour());
+	// (glb: a renderer's file shows the surface's own colours, superfaces only when asked)
+	superfaceColours_ = o.colour && (o.overwriteColours || (!in.hasColour() && o.format != "glb"));
 	const gausslod::MeshAttributes &a = outAttrs_;
 	int mask = Mask::IOM_VERTCOORD | Mask::IOM_FACEINDEX;
 	mask |= in.normals ? int(Mask::IOM_VERTNORMAL) : 0;
@@ -183,6 +186,29 @@ bool LevelWriter::exportLevel(MeshT &mesh, const std::string &name,
 		error = "cannot write " + file + ": " + why;
 		return false;
 	};
+	if (glb_) { // (texture names are relative to OUTDIR: the images are read to be embedded)
+		std::vector<std::string> images;
+		for (const std::string &t : textures_)
+			images.push_back(!t.empty() && t[0] == '/' ? t : outdir_ + "/" + t);
+		GltfMesh g;
+		toGltfMesh(mesh, mask_, images, g);
+		const std::string tmp = outdir_ + "/." + name + part;
+		std::string warning;
+		if (!writeGlb({&g}, {}, tmp, warning, error)) {
+			std::remove(tmp.c_str());
+			return false;
+		}
+		if (!warning.empty() && warnings_.insert(warning).second)
+			std::fprintf(stderr, "gausslod: %s\n", warning.c_str());
+		if (std::rename(tmp.c_str(), file.c_str()) != 0) {
+			std::remove(tmp.c_str());
+			return failed(std::strerror(errno));
+		}
+		if (keepGltf_)
+			gltf_.push_back(std::move(g));
+		files.push_back(file);
+		return true;
+	}
 	if (format_ != MeshFormat::Obj) {
 		const std::string tmp = outdir_ + "/." + name + part;
 		if (!gausslod::exportMesh(mesh, tmp, format_, mask_, {}, {}, error)) {
@@ -270,12 +296,23 @@ bool LevelWriter::exportLevel(MeshT &mesh, const std::string &name,
 bool LevelWriter::write(const gausslod::LevelMesh &level, const std::string &stem,
                         std::vector<std::string> &files, size_t &vertices, std::string &error) const
 {
-	const std::string name = stem + "_LOD" + std::to_string(level.stats.level) + "." +
-	                         gausslod::formatExtension(format_);
+	return writeNamed(level, stem + "_LOD" + std::to_string(level.stats.level) + "." + extension(),
+	                  files, vertices, error);
+}
+
+std::string LevelWriter::extension() const
+{
+	return glb_ ? "glb" : gausslod::formatExtension(format_);
+}
+
+bool LevelWriter::writeNamed(const gausslod::LevelMesh &level, const std::string &name,
+                             std::vector<std::string> &files, size_t &vertices,
+                             std::string &error) const
+{
 	vertices = level.positions.size() / 3;
 	// the lean path of files without attributes, and STL (it holds none: the triangles only)
 	if (format_ == MeshFormat::Stl || !in_.mesh) {
-		if (format_ == MeshFormat::Stl || (format_ == MeshFormat::Ply && !in_.normals)) {
+		if (!glb_ && (format_ == MeshFormat::Stl || (format_ == MeshFormat::Ply && !in_.normals))) {
 			const std::string file = outdir_ + "/" + name;
 			const std::string tmp = outdir_ + "/." + name + ".part-" + std::to_string(getpid());
 			const bool ok = format_ == MeshFormat::Stl

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "cli.h"
+#include "gltf_files.h"
 
 #include "gausslod/vcg_adapter.h"
 #include "gausslod_io/export_mesh.h"
@@ -15,6 +16,7 @@
 #include "gausslod_io/io_mesh.h"
 
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -84,6 +86,11 @@ public:
 	/// `format` Unknown = the input's.
 	LevelWriter(const InputMesh &in, const Options &o, const std::string &outdir);
 	gausslod::MeshFormat format() const { return format_; }
+	/// The level files' extension (ply, obj, off, stl, glb).
+	std::string extension() const;
+	/// glb: keep each level's glTF arrays (gltf()) for a file of the whole chain.
+	void keepGltf() { keepGltf_ = true; }
+	const std::vector<GltfMesh> &gltf() const { return gltf_; }
 	/// The input's attributes the files carry, in a fixed order (vertex_normal, vertex_colour,
 	/// vertex_quality, vertex_uv, wedge_uv, texture, face_colour).
 	const std::vector<std::string> &attributes() const { return attributes_; }
@@ -95,6 +102,9 @@ public:
 	/// split where its corners' attributes differ).
 	bool write(const gausslod::LevelMesh &level, const std::string &stem,
 	           std::vector<std::string> &files, size_t &vertices, std::string &error) const;
+	/// The same as OUTDIR/`name`.
+	bool writeNamed(const gausslod::LevelMesh &level, const std::string &name,
+	                std::vector<std::string> &files, size_t &vertices, std::string &error) const;
 
 private:
 	template <class MeshT>
@@ -109,6 +119,10 @@ private:
 	int mask_ = 0;                      // vcg::tri::io::Mask bits written
 	std::vector<std::string> textures_; // names as written (relative to OUTDIR)
 	std::vector<std::string> attributes_;
+	bool glb_ = false;
+	bool keepGltf_ = false;
+	mutable std::vector<GltfMesh> gltf_;        // (keepGltf)
+	mutable std::set<std::string> warnings_;    // said once
 };
 
 } // namespace cli

@@ -1,0 +1,190 @@
+// Levels as glTF 2.0 binary files (.glb) and a 3D Tiles 1.1 tileset of them (issue 40). The
+// files are made by Debian's tinygltf (gltf_files.cpp); this header turns a level's VCG mesh,
+// with the attributes the input carries (level_files.h), into the arrays glTF holds: a vertex per
+// distinct (position, normal, colour, texture coordinate) of the corners, one primitive per
+// material (texture and face colour), positions relative to the mesh's centre (the node's
+// translation carries the centre, so that far-away coordinates keep their precision).
+#pragma once
+
+#include "gausslod_io/io_mesh.h"
+
+#include <wrap/io_trimesh/io_mask.h>
+
+#include <array>
+#include <cmath>
+#include <map>
+#include <string>
+#include <tuple>
+#include <vector>
+
+namespace cli {
+
+struct GltfMesh {
+	double centre[3] = {0, 0, 0};
+	std::vector<float> positions; ///< xyz per vertex, relative to centre
+	std::vector<float> normals;   ///< xyz per vertex, or empty
+	std::vector<float> colours;   ///< rgba per vertex (linear), or empty
+	std::vector<float> uvs;       ///< uv per vertex (glTF's: v down), or empty
+	struct Material {
+		float colour[4] = {1, 1, 1, 1}; ///< linear
+		int texture = -1;               ///< index into textures
+	};
+	std::vector<Material> materials;
+	std::vector<std::vector<uint32_t>> primitives; ///< per material: its triangles' vertices
+	std::vector<std::string> textures;             ///< image files (PNG or JPEG are embedded)
+	double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};   ///< bounding box (model units)
+	size_t faces() const
+	{
+		size_t n = 0;
+		for (const auto &p : primitives)
+			n += p.size() / 3;
+		return n;
+	}
+};
+
+/// An 8-bit sRGB value as a linear one (glTF's colours are linear).
+inline float linearOfSrgb(unsigned char c)
+{
+	const double s = c / 255.0;
+	return float(s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4));
+}
+
+/// Face colours become materials while there are at most this many; beyond (superface colours),
+/// vertex colours.
+constexpr size_t kMaxColourMaterials = 64;
+
+/// `m` (a level's VCG mesh, with the attributes `mask` names: vcg::tri::io::Mask bits) as glTF
+/// arrays. `textures`: image files by texture index (as the mesh's wedge or vertex texture
+/// coordinates index them).
+template <class MeshT>
+void toGltfMesh(const MeshT &m, int mask, const std::vector<std::string> &textures, GltfMesh &out)
+{
+	using Mask = vcg::tri::io::Mask;
+	out = GltfMesh();
+	out.textures = textures;
+	const bool normals = mask & Mask::IOM_VERTNORMAL, vcol = mask & Mask::IOM_VERTCOLOR,
+	           fcol = mask & Mask::IOM_FACECOLOR, wuv = mask & Mask::IOM_WEDGTEXCOORD,
+	           vuv = !wuv && (mask & Mask::IOM_VERTTEXCOORD);
+	bool first = true;
+	for (const auto &v : m.vert) {
+		if (v.IsD())
+			continue;
+		for (int j = 0; j < 3; ++j) {
+			const double x = v.cP()[j];
+			out.lo[j] = first ? x : std::min(out.lo[j], x);
+			out.hi[j] = first ? x : std::max(out.hi[j], x);
+		}
+		first = false;
+	}
+	for (int j = 0; j < 3; ++j)
+		out.centre[j] = 0.5 * (out.lo[j] + out.hi[j]);
+	// face colours as materials when there are few of them
+	std::map<uint32_t, int> colourIds;
+	if (fcol)
+		for (const auto &f : m.face)
+			if (!f.IsD() && colourIds.size() <= kMaxColourMaterials) {
+				const vcg::Color4b c = f.cC();
+				colourIds.emplace(uint32_t(c[0]) | uint32_t(c[1]) << 8 | uint32_t(c[2]) << 16 |
+				                      uint32_t(c[3]) << 24,
+				                  0);
+			}
+	const bool colourMaterials = fcol && colourIds.size() <= kMaxColourMaterials;
+	const bool colours = vcol || (fcol && !colourMaterials);
+	std::map<std::pair<uint32_t, int>, int> materialIds; // (colour, texture) -> material
+	using Key = std::tuple<size_t, uint32_t, float, float>;  // vertex, colour, u, v
+	std::map<Key, uint32_t> vertexIds;
+	for (const auto &f : m.face) {
+		if (f.IsD())
+			continue;
+		int tex = -1;
+		if ((wuv || vuv) && !textures.empty()) {
+			tex = wuv ? f.cWT(0).n() : f.cV(0)->cT().n();
+			if (tex < 0 || size_t(tex) >= textures.size())
+				tex = textures.size() == 1 ? 0 : -1;
+		}
+		const vcg::Color4b fc = fcol ? f.cC() : vcg::Color4b(vcg::Color4b::White);
+		const uint32_t fkey = colourMaterials ? uint32_t(fc[0]) | uint32_t(fc[1]) << 8 |
+		                                            uint32_t(fc[2]) << 16 | uint32_t(fc[3]) << 24
+		                                      : 0xffffffffu;
+		const auto mid = materialIds.emplace(std::make_pair(fkey, tex), int(out.materials.size()));
+		if (mid.second) {
+			GltfMesh::Material mat;
+			if (colourMaterials)
+				for (int j = 0; j < 4; ++j)
+					mat.colour[j] = j < 3 ? linearOfSrgb(fc[j]) : fc[3] / 255.0f;
+			mat.texture = tex;
+			out.materials.push_back(mat);
+			out.primitives.emplace_back();
+		}
+		std::vector<uint32_t> &prim = out.primitives[size_t(mid.first->second)];
+		for (int k = 0; k < 3; ++k) {
+			const auto *v = f.cV(k);
+			const size_t vi = size_t(v - &m.vert[0]);
+			vcg::Color4b c = vcg::Color4b(vcg::Color4b::White);
+			if (vcol)
+				c = v->cC();
+			else if (colours)
+				c = fc;
+			const uint32_t ckey = colours ? uint32_t(c[0]) | uint32_t(c[1]) << 8 |
+			                                    uint32_t(c[2]) << 16 | uint32_t(c[3]) << 24
+			                              : 0;
+			float u = 0, w = 0;
+			if (tex >= 0 || ((wuv || vuv) && textures.empty())) {
+				const auto &t = wuv ? f.cWT(k) : v->cT();
+				u = t.u(), w = 1.0f - t.v(); // (glTF's v runs down the image)
+			}
+			const auto id = vertexIds.emplace(Key(vi, ckey, u, w), uint32_t(vertexIds.size()));
+			if (id.second) {
+				for (int j = 0; j < 3; ++j)
+					out.positions.push_back(float(v->cP()[j] - out.centre[j]));
+				if (normals)
+					for (int j = 0; j < 3; ++j)
+						out.normals.push_back(float(v->cN()[j]));
+				if (colours)
+					for (int j = 0; j < 4; ++j)
+						out.colours.push_back(j < 3 ? linearOfSrgb(c[j]) : c[3] / 255.0f);
+				if (wuv || vuv)
+					out.uvs.insert(out.uvs.end(), {u, w});
+			}
+			prim.push_back(id.first->second);
+		}
+	}
+	// (a normal glTF requires unit length: a zero one, of a vertex no face spans, is made up)
+	for (size_t i = 0; i + 2 < out.normals.size(); i += 3) {
+		const float l = std::sqrt(out.normals[i] * out.normals[i] +
+		                          out.normals[i + 1] * out.normals[i + 1] +
+		                          out.normals[i + 2] * out.normals[i + 2]);
+		if (l > 0 && std::isfinite(l))
+			for (int j = 0; j < 3; ++j)
+				out.normals[i + size_t(j)] /= l;
+		else
+			out.normals[i] = 0, out.normals[i + 1] = 0, out.normals[i + 2] = 1;
+	}
+}
+
+/// Writes `meshes` as one binary glTF file at `path`: one node each. With more than one, the
+/// first node is the full-detail one and lists the others (coarser, in order) in `MSFT_lod`,
+/// with `coverage` (one per mesh: the screen coverage down to which each is shown) as its
+/// `MSFT_screencoverage` extra; the extension is used, not required. Images that are PNG or
+/// JPEG files are embedded; another kind, or one that cannot be read, leaves its material
+/// untextured and is named in `warning`. False with `error` set if the file cannot be written.
+bool writeGlb(const std::vector<const GltfMesh *> &meshes, const std::vector<double> &coverage,
+              const std::string &path, std::string &warning, std::string &error);
+
+/// One tile of a tileset: a level's glb (relative to the tileset's folder), its proven distance
+/// to the source (model units) and its bounding box.
+struct Tile {
+	std::string content;
+	double error = 0;
+	double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+};
+
+/// Writes a 3D Tiles 1.1 tileset.json at `path`: `tiles` from the coarsest (the root) to the full
+/// detail (the leaf, error 0), each the only child of the one before, refinement REPLACE, each
+/// tile's geometricError its own error (what leaving it on screen costs), every bounding volume
+/// the box of all tiles (glTF's y up turned to 3D Tiles' z up), `transform` (16 numbers, column
+/// major) on the root if not empty. The tileset's own geometricError is the box's diagonal.
+bool writeTileset(const std::vector<Tile> &tiles, const std::vector<double> &transform,
+                  const std::string &path, std::string &error);
+
+} // namespace cli
