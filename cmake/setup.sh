@@ -87,4 +87,12 @@ if [ ! -f "$deps/cgal-data/.unpacked" ]; then
   tar -xzf "$tarball" -C "$deps/cgal-data"
   touch "$deps/cgal-data/.unpacked"
 fi
+# --- npm packages of the web viewer and its tests (web/package.json: pinned versions, installed
+# into web/node_modules without a lock file; nothing of them is committed) ------------------------
+stamp="$here/web/node_modules/.gausslod-installed"
+if [ ! -f "$stamp" ] || [ "$here/web/package.json" -nt "$stamp" ]; then
+  echo "setup: npm install (web/package.json)"
+  (cd "$here/web" && npm install --no-package-lock --no-audit --no-fund --loglevel=error >/dev/null)
+  touch "$stamp"
+fi
 echo "setup: ok (deps in $deps)"
