@@ -557,8 +557,11 @@ void writeChain(const InputMesh &in, const Options &o, const std::string &outdir
 	}
 	if (o.tiles) {
 		std::vector<Tile> tiles;
-		auto tile = [&](const std::string &file, double e) {
+		auto tile = [&](const std::string &file, double e, int level, size_t faces) {
 			Tile t;
+			t.lod = int(nLevels) - int(tiles.size()); // (the root is the coarsest)
+			t.level = level;
+			t.faces = faces;
 			const size_t slash = file.rfind('/');
 			t.content = slash == std::string::npos ? file : file.substr(slash + 1);
 			t.error = e;
@@ -569,8 +572,8 @@ void writeChain(const InputMesh &in, const Options &o, const std::string &outdir
 		};
 		for (size_t i = nLevels; i-- > 0;)
 			if (i < out.files.size() && i < errors.size())
-				tile(out.files[i], errors[i]);
-		tile(files[0], 0.0);
+				tile(out.files[i], errors[i], out.levels[i].level, out.levels[i].faces);
+		tile(files[0], 0.0, -1, out.inputFaces);
 		if (!writeTileset(tiles, o.tilesTransform, outdir + "/tileset.json", error))
 			return;
 	}

@@ -228,7 +228,9 @@ bool writeTileset(const std::vector<Tile> &tiles, const std::vector<double> &tra
 		std::string t = "{\"boundingVolume\":" + box.str() +
 		                ",\"geometricError\":" + num(leaf ? 0.0 : tiles[i].error) +
 		                ",\"refine\":\"REPLACE\",\"content\":{\"uri\":" + jsonString(tiles[i].content) +
-		                "}";
+		                "},\"extras\":{\"gausslod\":{\"lod\":" + std::to_string(tiles[i].lod) +
+		                ",\"level\":" + (tiles[i].level < 0 ? std::string("null") : std::to_string(tiles[i].level)) +
+		                ",\"faces\":" + std::to_string(tiles[i].faces) + "}}";
 		if (i == 0 && transform.size() == 16) {
 			t += ",\"transform\":[";
 			for (size_t k = 0; k < 16; ++k)

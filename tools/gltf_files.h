@@ -176,6 +176,9 @@ bool writeGlb(const std::vector<const GltfMesh *> &meshes, const std::vector<dou
 struct Tile {
 	std::string content;
 	double error = 0;
+	int lod = 0;        ///< as renderers count: 0 = full detail (the leaf)
+	int level = -1;     ///< the paper's level index (-1: the input)
+	size_t faces = 0;
 	double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
 };
 
@@ -183,7 +186,8 @@ struct Tile {
 /// detail (the leaf, error 0), each the only child of the one before, refinement REPLACE, each
 /// tile's geometricError its own error (what leaving it on screen costs), every bounding volume
 /// the box of all tiles (glTF's y up turned to 3D Tiles' z up), `transform` (16 numbers, column
-/// major) on the root if not empty. The tileset's own geometricError is the box's diagonal.
+/// major) on the root if not empty, each tile's lod, paper level and faces in its extras
+/// ("gausslod"). The tileset's own geometricError is the box's diagonal.
 bool writeTileset(const std::vector<Tile> &tiles, const std::vector<double> &transform,
                   const std::string &path, std::string &error);
 
