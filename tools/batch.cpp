@@ -4,7 +4,8 @@
 // quotes" for blanks), then options for that input only (after the command line's options).
 // Blank lines and lines starting with # are skipped. Levels go to OUTDIR/<path without its
 // extension>_LOD<i>.<ext> (the path as written, ".." as "__", a leading / dropped; ext the
-// input's or --format's, OBJ with its .mtl), and a record of the outcome to OUTDIR/<path
+// input's or --format's, OBJ with its .mtl; --lod-file, --3dtiles: also _lods.glb, _full.glb and
+// <path without its extension>_tileset.json), and a record of the outcome to OUTDIR/<path
 // without its extension>.gausslod.json.
 //
 // Idempotent: an input whose record says ok for the same file (size, time) and options is not
@@ -173,8 +174,14 @@ std::string optionsKey(const Options &o)
 	                  " by=" + gausslod::levelsByText(o.params) +
 	                  " colour=" + std::to_string(int(o.colour)) +
 	                  " overwrite=" + std::to_string(int(o.overwriteColours)) +
-	                  " format=" + (o.format.empty() ? "input" : o.format);
+	                  " format=" + (o.format.empty() ? "input" : o.format) +
+	                  " lodfile=" + std::to_string(int(o.lodFile)) +
+	                  " tiles=" + std::to_string(int(o.tiles));
 	char buf[64];
+	for (const double t : o.tilesTransform) {
+		std::snprintf(buf, sizeof buf, " %.17g", t);
+		key += buf;
+	}
 	for (const gausslod::ParamSpec &s : gausslod::paramSpecs())
 		if (s.kind != gausslod::ParamKind::LevelList && std::string(s.name) != "threads") {
 			std::snprintf(buf, sizeof buf, " %s=%.17g", s.name, gausslod::getParam(o.params, s));
@@ -280,6 +287,8 @@ int batchMain(const std::vector<std::string> &argsIn)
 		if (out.code == kOk) {
 			const size_t cut = stemPath.find_last_of('/');
 			removeParts(stemPath);
+			// (inputs may share a folder: each tileset is named after its input)
+			o.tilesetName = stemPath.substr(cut + 1) + "_tileset.json";
 			out = runOne(input, stemPath.substr(0, cut), stemPath.substr(cut + 1), o, {});
 		}
 		const std::string json = resultJson(l, path, o.params, out, signature);

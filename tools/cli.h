@@ -33,6 +33,7 @@ struct Options {
 	bool lodFile = false;              ///< --lod-file: the chain as one glb with MSFT_lod
 	bool tiles = false;                ///< --3dtiles: a 3D Tiles tileset of glb levels
 	std::vector<double> tilesTransform; ///< --tiles-transform: the root's (16, column major)
+	std::string tilesetName = "tileset.json"; ///< --3dtiles: OUTDIR/<this> (batch: per input)
 	bool json = false;
 };
 

@@ -185,9 +185,9 @@ const char *optionHelp()
 		     "                         coordinates) (true)\n"
 		     "  --overwrite-colours    colour faces by superface even where the input has\n"
 		     "                         colours (they are then not written)\n"
-		     "  --format F             ply, obj (+ .mtl), off, stl or glb (binary glTF: colours,\n"
-		     "                         texture coordinates and PNG/JPEG textures embedded)\n"
-		     "                         (the input's)\n"
+		     "  --format F             ply, obj (+ .mtl), off, stl, glb (binary glTF: colours,\n"
+		     "                         texture coordinates and PNG/JPEG textures embedded) or\n"
+		     "                         gltf (the same as one JSON file) (the input's)\n"
 		     "  --lod-file             glb: also OUTDIR/<name>_lods.glb, the whole chain in one\n"
 		     "                         file (MSFT_lod on the full-detail node, screen coverage\n"
 		     "                         from each level's distance)\n"
@@ -250,10 +250,10 @@ bool parseOptions(const std::vector<std::string> &args, Options &o,
 			o.format = args[++i];
 			for (char &c : o.format)
 				c = char(std::tolower(static_cast<unsigned char>(c)));
-			if (o.format == "glb")
+			if (o.format == "glb" || o.format == "gltf")
 				continue;
 			if (gausslod::formatNamed(o.format) == gausslod::MeshFormat::Unknown)
-				return error = "--format needs ply, obj, off, stl or glb", false;
+				return error = "--format needs ply, obj, off, stl, glb or gltf", false;
 			o.format = gausslod::formatExtension(gausslod::formatNamed(o.format));
 			continue;
 		}
@@ -574,7 +574,7 @@ void writeChain(const InputMesh &in, const Options &o, const std::string &outdir
 			if (i < out.files.size() && i < errors.size())
 				tile(out.files[i], errors[i], out.levels[i].level, out.levels[i].faces);
 		tile(files[0], 0.0, -1, out.inputFaces);
-		if (!writeTileset(tiles, o.tilesTransform, outdir + "/tileset.json", error))
+		if (!writeTileset(tiles, o.tilesTransform, outdir + "/" + o.tilesetName, error))
 			return;
 	}
 }

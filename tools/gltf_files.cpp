@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 #include <sstream>
+#include <unistd.h>
 
 namespace cli {
 
@@ -158,7 +159,7 @@ int addMesh(tinygltf::Model &model, const GltfMesh &m, std::map<std::string, int
 } // namespace
 
 bool writeGlb(const std::vector<const GltfMesh *> &meshes, const std::vector<double> &coverage,
-              const std::string &path, std::string &warning, std::string &error)
+              const std::string &path, std::string &warning, std::string &error, bool binary)
 {
 	tinygltf::Model model;
 	model.asset.version = "2.0";
@@ -189,7 +190,7 @@ bool writeGlb(const std::vector<const GltfMesh *> &meshes, const std::vector<dou
 	model.scenes.push_back(scene);
 	model.defaultScene = 0;
 	tinygltf::TinyGLTF gltf;
-	if (!gltf.WriteGltfSceneToFile(&model, path, true, true, false, true)) {
+	if (!gltf.WriteGltfSceneToFile(&model, path, true, true, !binary, binary)) {
 		error = "cannot write " + path;
 		return false;
 	}
@@ -242,7 +243,9 @@ bool writeTileset(const std::vector<Tile> &tiles, const std::vector<double> &tra
 			tail += "]}";
 	}
 	json += tail + "}\n";
-	const std::string tmp = path + ".part";
+	const size_t slash = path.rfind('/');
+	const std::string tmp = path.substr(0, slash + 1) + "." + path.substr(slash + 1) + ".part-" +
+	                        std::to_string(getpid());
 	FILE *f = std::fopen(tmp.c_str(), "wb");
 	if (!f || std::fwrite(json.data(), 1, json.size(), f) != json.size() || std::fclose(f) != 0) {
 		error = "cannot write " + path + ": " + std::strerror(errno);

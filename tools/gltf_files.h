@@ -168,8 +168,10 @@ void toGltfMesh(const MeshT &m, int mask, const std::vector<std::string> &textur
 /// `MSFT_screencoverage` extra; the extension is used, not required. Images that are PNG or
 /// JPEG files are embedded; another kind, or one that cannot be read, leaves its material
 /// untextured and is named in `warning`. False with `error` set if the file cannot be written.
+/// `binary` false: a .gltf text file, the buffer (images included) as a data URI.
 bool writeGlb(const std::vector<const GltfMesh *> &meshes, const std::vector<double> &coverage,
-              const std::string &path, std::string &warning, std::string &error);
+              const std::string &path, std::string &warning, std::string &error,
+              bool binary = true);
 
 /// One tile of a tileset: a level's glb (relative to the tileset's folder), its proven distance
 /// to the source (model units) and its bounding box.

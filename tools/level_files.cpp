@@ -135,7 +135,8 @@ void InputAttributes::take(const gausslod::IoAttrMesh &m, const gausslod::MeshAt
 LevelWriter::LevelWriter(const InputMesh &in, const Options &o, const std::string &outdir)
     : in_(in), outdir_(outdir)
 {
-	glb_ = o.format == "glb";
+	glb_ = o.format == "glb" || o.format == "gltf";
+	gltfText_ = o.format == "gltf";
 	// (glb holds what PLY holds: its attributes are chosen as for PLY)
 	format_ = glb_ || o.format.empty() ? in.format : gausslod::formatNamed(o.format);
 	if (format_ == MeshFormat::Unknown || glb_)
@@ -194,7 +195,7 @@ bool LevelWriter::exportLevel(MeshT &mesh, const std::string &name,
 		toGltfMesh(mesh, mask_, images, g);
 		const std::string tmp = outdir_ + "/." + name + part;
 		std::string warning;
-		if (!writeGlb({&g}, {}, tmp, warning, error)) {
+		if (!writeGlb({&g}, {}, tmp, warning, error, !gltfText_)) {
 			std::remove(tmp.c_str());
 			return false;
 		}
@@ -302,7 +303,7 @@ bool LevelWriter::write(const gausslod::LevelMesh &level, const std::string &ste
 
 std::string LevelWriter::extension() const
 {
-	return glb_ ? "glb" : gausslod::formatExtension(format_);
+	return glb_ ? (gltfText_ ? "gltf" : "glb") : gausslod::formatExtension(format_);
 }
 
 bool LevelWriter::writeNamed(const gausslod::LevelMesh &level, const std::string &name,
@@ -367,7 +368,8 @@ static void removePartFiles(const std::string &dir, const std::string &prefix)
 
 void removeLevelParts(const std::string &outdir, const std::string &stem)
 {
-	removePartFiles(outdir, "." + stem + "_LOD");
+	for (const char *kind : {"_LOD", "_full.glb", "_lods.glb", "_tileset.json"})
+		removePartFiles(outdir, "." + stem + kind);
 }
 
 } // namespace cli

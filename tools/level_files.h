@@ -119,7 +119,8 @@ private:
 	int mask_ = 0;                      // vcg::tri::io::Mask bits written
 	std::vector<std::string> textures_; // names as written (relative to OUTDIR)
 	std::vector<std::string> attributes_;
-	bool glb_ = false;
+	bool glb_ = false;      // glTF: binary (glb) or text (gltfText_)
+	bool gltfText_ = false;
 	bool keepGltf_ = false;
 	mutable std::vector<GltfMesh> gltf_;        // (keepGltf)
 	mutable std::set<std::string> warnings_;    // said once

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """A tileset written by gausslod --3dtiles against its levels' JSON lines (test_cli_gltf.sh):
-    check_tileset.py OUTDIR LEVELS.jsonl
+    check_tileset.py OUTDIR LEVELS.jsonl [TILESET_NAME]
 A chain of single children from the coarsest level (the root) to the input (the leaf, error 0),
 refinement REPLACE, every content file present, errors never increasing down the chain, each
 level's error at least its certified distance (a coarser level may carry a finer one's larger
@@ -8,7 +8,7 @@ figure; the JSON has 6 digits), the tileset's own error above the root's."""
 import json, os, sys
 
 d, levels = sys.argv[1], [json.loads(l) for l in open(sys.argv[2]) if '"level"' in l]
-t = json.load(open(os.path.join(d, "tileset.json")))
+t = json.load(open(os.path.join(d, sys.argv[3] if len(sys.argv) > 3 else "tileset.json")))
 assert t["asset"]["version"] == "1.1", t["asset"]
 chain, tile = [], t["root"]
 while True:

@@ -178,9 +178,9 @@ run spider_off --format off "$obj/spider.obj" "$work/spider_off" &&
   levels spider_off "$obj/spider.obj" --format off --attributes face_colour --has face_colour --lacks wedge_uv
 
 # a format the tool does not write: a usage error
-"$tool" --format gltf "$data/cow.off" "$work/gltf" >"$work/gltf.txt" 2>&1; rc=$?
-[ $rc -eq 2 ] && grep -q -- "--format needs ply, obj, off or stl" "$work/gltf.txt" && [ ! -e "$work/gltf" ] &&
-  pass "--format gltf: exit 2, nothing written" || fail "--format gltf: exit $rc: $(head -c 300 "$work/gltf.txt")"
+"$tool" --format fbx "$data/cow.off" "$work/fbx" >"$work/fbx.txt" 2>&1; rc=$?
+[ $rc -eq 2 ] && grep -q -- "--format needs ply, obj, off, stl, glb or gltf" "$work/fbx.txt" && [ ! -e "$work/fbx" ] &&
+  pass "--format fbx: exit 2, nothing written" || fail "--format fbx: exit $rc: $(head -c 300 "$work/fbx.txt")"
 
 # 6. batch: its records list the level files and OBJ material files; a second run redoes nothing
 printf '%s\n' "$obj/spider.obj" "$obj/cube_with_vertexcolors.obj --format ply" "$data/cow.off" >"$work/manifest.txt"

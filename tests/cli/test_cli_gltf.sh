@@ -38,4 +38,16 @@ check 'glb_json "$out/fandisk/fandisk_LOD0.glb" | grep -vq "\"COLOR_0\""' "fandi
 check '"$g" "$data/fandisk.off" "$out/bad" --3dtiles --format ply 2>"$out/bad.err"; [ $? -eq 2 ] && grep -q "disagrees" "$out/bad.err"' "--3dtiles with --format ply is refused"
 check '"$g" "$data/fandisk.off" "$out/bad2" --tiles-transform 1,2,3 2>"$out/bad2.err"; [ $? -eq 2 ]' "--tiles-transform needs 16 numbers"
 check '"$g" "$data/fandisk.off" "$out/tf" --3dtiles --tiles-transform 1,0,0,0,0,1,0,0,0,0,1,0,10,20,30,1 >/dev/null 2>&1 && python3 -c "import json,sys; t=json.load(open(sys.argv[1]))[\"root\"][\"transform\"]; assert t[12:15]==[10,20,30], t" "$out/tf/tileset.json"' "--tiles-transform is the root's transform"
+# --format gltf: the same as text, the buffer and the images as data URIs
+check '"$g" "$assimp/OBJ/spider.obj" "$out/gltf" --format gltf >/dev/null 2>&1 && node "$web/validate_gltf.mjs" "$out/gltf"/*.gltf && grep -q "image/jpeg" "$out/gltf/spider_LOD0.gltf"' "--format gltf: valid, its textures embedded"
+# batch: two inputs of one folder, each its own tileset
+mkdir -p "$out/batch/in"
+cp "$data/cow.off" "$data/fandisk.off" "$out/batch/in/"
+printf '%s\n' "in/cow.off --3dtiles" "in/fandisk.off --3dtiles --lod-file" >"$out/batch/manifest"
+check '"$g" batch "$out/batch/manifest" "$out/batch/out" >"$out/batch/records" 2>"$out/batch/err"' "batch with --3dtiles per line"
+for n in cow fandisk; do
+  check 'python3 -c "import json,sys; print(\"\n\".join(json.dumps(l) for l in json.load(open(sys.argv[1]))[\"levels\"]))" "$out/batch/out/in/$n.gausslod.json" >"$out/batch/$n.jsonl" &&
+         python3 "$here/check_tileset.py" "$out/batch/out/in" "$out/batch/$n.jsonl" "${n}_tileset.json"' "batch: $n's tileset ${n}_tileset.json"
+done
+check '[ -f "$out/batch/out/in/fandisk_lods.glb" ] && [ ! -f "$out/batch/out/in/cow_lods.glb" ]' "batch: --lod-file on its line only"
 finish cli.gltf
