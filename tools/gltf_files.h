@@ -14,6 +14,7 @@
 #include <cmath>
 #include <map>
 #include <string>
+#include <cstdint>
 #include <tuple>
 #include <vector>
 
@@ -91,8 +92,24 @@ void toGltfMesh(const MeshT &m, int mask, const std::vector<std::string> &textur
 	const bool colourMaterials = fcol && colourIds.size() <= kMaxColourMaterials;
 	const bool colours = vcol || (fcol && !colourMaterials);
 	std::map<std::pair<uint32_t, int>, int> materialIds; // (colour, texture) -> material
-	using Key = std::tuple<size_t, uint32_t, float, float>;  // vertex, colour, u, v
-	std::map<Key, uint32_t> vertexIds;
+	// a glTF vertex per distinct (vertex, colour, u, v) of the corners: the first of each VCG
+	// vertex in flat arrays, the further ones (seams, colour borders) in a map
+	struct Variant {
+		uint32_t colour;
+		float u, v;
+		bool operator<(const Variant &o) const
+		{
+			return std::tie(colour, u, v) < std::tie(o.colour, o.u, o.v);
+		}
+		bool operator==(const Variant &o) const
+		{
+			return colour == o.colour && u == o.u && v == o.v;
+		}
+	};
+	std::vector<uint32_t> firstId(m.vert.size(), UINT32_MAX);
+	std::vector<Variant> firstVariant(m.vert.size());
+	std::map<std::pair<size_t, Variant>, uint32_t> furtherIds;
+	uint32_t count = 0;
 	for (const auto &f : m.face) {
 		if (f.IsD())
 			continue;
@@ -133,8 +150,18 @@ void toGltfMesh(const MeshT &m, int mask, const std::vector<std::string> &textur
 				const auto &t = wuv ? f.cWT(k) : v->cT();
 				u = t.u(), w = 1.0f - t.v(); // (glTF's v runs down the image)
 			}
-			const auto id = vertexIds.emplace(Key(vi, ckey, u, w), uint32_t(vertexIds.size()));
-			if (id.second) {
+			const Variant var{ckey, u, w};
+			uint32_t id = firstId[vi];
+			bool added = false;
+			if (id == UINT32_MAX) {
+				id = firstId[vi] = count++, firstVariant[vi] = var, added = true;
+			} else if (!(firstVariant[vi] == var)) {
+				const auto f = furtherIds.emplace(std::make_pair(vi, var), count);
+				id = f.first->second;
+				if (f.second)
+					++count, added = true;
+			}
+			if (added) {
 				for (int j = 0; j < 3; ++j)
 					out.positions.push_back(float(v->cP()[j] - out.centre[j]));
 				if (normals)
@@ -146,7 +173,7 @@ void toGltfMesh(const MeshT &m, int mask, const std::vector<std::string> &textur
 				if (wuv || vuv)
 					out.uvs.insert(out.uvs.end(), {u, w});
 			}
-			prim.push_back(id.first->second);
+			prim.push_back(id);
 		}
 	}
 	// (a normal glTF requires unit length: a zero one, of a vertex no face spans, is made up)
