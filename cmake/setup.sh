@@ -22,7 +22,10 @@ need_root() {
 pkgs=(meshlab qtbase5-dev libqt5opengl5-dev libqt5xmlpatterns5-dev libglew-dev libglu1-mesa-dev
       libeigen3-dev cmake g++ make xvfb xauth libgtest-dev libcgal-dev libgmp-dev libmpfr-dev
       dpkg-dev xdotool imagemagick x11-utils clang libclang-rt-14-dev
-      assimp-testmodels parallel valgrind libtinygltf-dev nodejs npm chromium)
+      assimp-testmodels parallel valgrind libtinygltf-dev chromium)
+# Node.js and npm (the web viewer's packages and its browser test): Debian's only where the machine
+# has none of its own (Debian's npm conflicts with a Node.js installed otherwise)
+command -v node >/dev/null && command -v npm >/dev/null || pkgs+=(nodejs npm)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
