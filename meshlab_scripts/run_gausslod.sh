@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# run_gausslod.sh INPUT OUTDIR [SCRIPT.mlx]
+# run_gausslod.sh INPUT OUTDIR [SCRIPT.mlx] [--format glb|gltf] [--lod-file] [--3dtiles]
+#                 [--tiles-transform M]
 #
 # Runs the GaussLOD MeshLab filter on INPUT with meshlabserver (under xvfb-run: meshlabserver 2020.09
 # needs an X server) and saves every layer the filter adds as OUTDIR/<name>_LOD<level>.ply, with
@@ -9,6 +10,10 @@
 # path under OUTDIR (when OUTDIR is not the input's folder), so that the levels find them.
 # SCRIPT defaults to gausslod_default.mlx next to this file; it must hold the GaussLOD filter, and
 # its maxLevel/outputLevels say which levels come out (layers 1..N, finest first, after the input).
+# The glTF options (as the gausslod tool's: glb or gltf levels, the MSFT_lod chain file, a 3D Tiles
+# tileset with the certified distances) also write the levels for renderers into OUTDIR: the tool
+# makes them with the script's parameters (gausslod --from-mlx), and the runner checks that they
+# have the face counts of MeshLab's layers (exit 1 if not).
 #
 # meshlabserver: $GAUSSLOD_MESHLAB_PREFIX/bin/meshlabserver if that variable is set, else the
 # build tree's private prefix <repo>/build/meshlab-prefix, else the system meshlabserver if the
@@ -36,8 +41,23 @@ multiarch=x86_64-linux-gnu
 
 die() { local code=$1; shift; echo "$me: error: $*" >&2; exit "$code"; }
 
-[ $# -ge 2 ] && [ $# -le 3 ] || { echo "usage: $me INPUT OUTDIR [SCRIPT.mlx]" >&2; exit 2; }
-input=$1 outdir=$2 script=${3:-$here/gausslod_default.mlx}
+usage="usage: $me INPUT OUTDIR [SCRIPT.mlx] [--format glb|gltf] [--lod-file] [--3dtiles] [--tiles-transform M]"
+[ $# -ge 2 ] || { echo "$usage" >&2; exit 2; }
+input=$1 outdir=$2; shift 2
+script=$here/gausslod_default.mlx
+if [ $# -gt 0 ] && [[ $1 != --* ]]; then script=$1; shift; fi
+gltf_opts=()
+while [ $# -gt 0 ]; do
+  case $1 in
+    --lod-file | --3dtiles) gltf_opts+=("$1"); shift ;;
+    --format | --tiles-transform)
+      [ $# -ge 2 ] || { echo "$me: $1 needs a value" >&2; exit 2; }
+      [ "$1" != --format ] || [ "$2" = glb ] || [ "$2" = gltf ] ||
+        { echo "$me: --format here is glb or gltf (MeshLab's layers are saved as PLY)" >&2; exit 2; }
+      gltf_opts+=("$1" "$2"); shift 2 ;;
+    *) echo "$usage" >&2; exit 2 ;;
+  esac
+done
 
 [ -e "$input" ] || die 3 "input file not found: $input"
 [ -f "$input" ] && [ -r "$input" ] || die 3 "input is not a readable file: $input"
@@ -283,4 +303,24 @@ done
 if [ $missing -ne 0 ]; then
   show_log
   die 7 "meshlabserver did not save every level (see above)"
+fi
+
+# --- the levels for renderers (glTF options): the tool, with the script's parameters ------------
+if [ ${#gltf_opts[@]} -gt 0 ]; then
+  [ -n "$tool" ] || die 2 "the glTF options need the gausslod tool (GAUSSLOD_TOOL)"
+  set +e
+  "$tool" --json --from-mlx "$run_script" "${gltf_opts[@]}" "$input" "$outdir" >"$tmp/gltf.jsonl" 2>"$tmp/gltf.err"
+  rc=$?
+  set -e
+  [ $rc -eq 0 ] || die "$rc" "gausslod --from-mlx: $(tail -n1 "$tmp/gltf.err")"
+  for i in "${!levels[@]}"; do
+    want=$(LC_ALL=C awk '$1 == "element" && $2 == "face" { print $3; exit }' "${outputs[$i]}")
+    got=$(grep -o "{\"level\":${levels[$i]},\"faces\":[0-9]*" "$tmp/gltf.jsonl" | grep -o '[0-9]*$' || true)
+    [ "$got" = "$want" ] ||
+      die 1 "the tool's LOD${levels[$i]} has ${got:-no} faces, MeshLab's layer $want: the glTF levels are not the layers"
+  done
+  grep -o '"file":"[^"]*"' "$tmp/gltf.jsonl" | sed 's/"file":"//; s/"$//; s/^/glTF: /'
+  for f in "$outdir/${name}_lods.glb" "$outdir/${name}_full.glb" "$outdir/tileset.json"; do
+    [ ! -f "$f" ] || [ "$f" -ot "$tmp/gltf.jsonl" ] || echo "glTF: $f"
+  done
 fi

@@ -16,6 +16,8 @@
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
+#include <fstream>
+#include <map>
 #include <memory>
 #include <new>
 #include <sstream>
@@ -89,6 +91,80 @@ bool setFromText(const gausslod::ParamSpec &s, const std::string &flag, const st
 	if (s.kind == ParamKind::Integer && (!(v >= -1e9 && v <= 1e9) || v != double(int(v))))
 		return error = flag + " needs a whole number", false;
 	gausslod::setParam(o.params, s, s.kind == ParamKind::DiagonalFraction ? v / 100.0 : v);
+	return true;
+}
+
+// The value of attribute `name` in one XML tag's text ("" if none).
+std::string xmlAttribute(const std::string &tag, const std::string &name)
+{
+	const std::string key = " " + name + "=\"";
+	const size_t at = tag.find(key);
+	if (at == std::string::npos)
+		return "";
+	const size_t from = at + key.size(), to = tag.find('"', from);
+	return to == std::string::npos ? "" : tag.substr(from, to - from);
+}
+
+// --from-mlx: the GaussLOD filter's parameters in a MeshLab script as the tool's options, read as
+// the filter reads them (plugin/filter_gausslod.cpp, readRequest): a distance (RichAbsPerc) is
+// its share of the min..max range, 'Levels by' the drop-down and 'Targets' (or the text of a
+// script written when it was text); parameters the script lacks keep their defaults.
+bool mlxOptions(const std::string &file, std::vector<std::string> &out, std::string &error)
+{
+	std::ifstream in(file);
+	std::stringstream text;
+	text << in.rdbuf();
+	const std::string xml = text.str();
+	if (!in && xml.empty())
+		return error = "--from-mlx: cannot read " + file, false;
+	const size_t filter = xml.find("name=\"Gauss Sphere LOD: Merge Near-Coplanar Faces\"");
+	if (filter == std::string::npos)
+		return error = "--from-mlx: " + file + " does not run the GaussLOD filter", false;
+	const size_t end = xml.find("</filter>", filter);
+	std::map<std::string, std::string> tags; // name -> its Param tag
+	for (size_t at = xml.find("<Param", filter); at != std::string::npos && at < end;
+	     at = xml.find("<Param", at + 1)) {
+		const std::string tag = xml.substr(at, xml.find('>', at) - at);
+		tags[xmlAttribute(tag, "name")] = tag;
+	}
+	auto value = [&](const char *name) { return xmlAttribute(tags[name], "value"); };
+	using gausslod::ParamKind;
+	// (levels by target: the number of targets is the number of levels, 'maxLevel' unused)
+	const std::string by = value("levelsBy");
+	const bool byTarget = (xmlAttribute(tags["levelsBy"], "type") == "RichEnum" &&
+	                       (by == "1" || by == "2")) ||
+	                      by.compare(0, 6, "faces:") == 0 || by.compare(0, 6, "error:") == 0;
+	for (const gausslod::ParamSpec &sp : gausslod::paramSpecs()) {
+		if (!sp.inFilter || !tags.count(sp.name) || (byTarget && std::string(sp.name) == "maxLevel"))
+			continue;
+		const std::string tag = tags[sp.name], v = xmlAttribute(tag, "value");
+		std::string arg = v;
+		if (sp.kind == ParamKind::DiagonalFraction) {
+			const double x = std::atof(v.c_str()), lo = std::atof(xmlAttribute(tag, "min").c_str()),
+			             hi = std::atof(xmlAttribute(tag, "max").c_str());
+			if (!(hi > lo))
+				return error = "--from-mlx: " + std::string(sp.name) + " has no min..max range", false;
+			char buf[64];
+			std::snprintf(buf, sizeof buf, "%.17g", 100.0 * (x - lo) / (hi - lo));
+			arg = buf;
+		} else if (sp.kind == ParamKind::LevelTargets) {
+			const std::string type = xmlAttribute(tag, "type");
+			if (type == "RichEnum")
+				arg = v == "1" ? "faces:" + value("levelTargets")
+				      : v == "2" ? "error:" + value("levelTargets")
+				                 : "angle";
+		}
+		out.push_back(flagOf(sp.name));
+		out.push_back(arg);
+	}
+	if (tags.count("colourSuperfaces"))
+		out.insert(out.end(), {"--colour-superfaces", value("colourSuperfaces")});
+	if (value("overwriteColours") == "true")
+		out.push_back("--overwrite-colours");
+	if (value("selectedOnly") == "true")
+		return error = "--from-mlx: the script simplifies the selection only (selectedOnly): the "
+		               "tool has no selection",
+		       false;
 	return true;
 }
 
@@ -195,6 +271,8 @@ const char *optionHelp()
 		     "                         OUTDIR/tileset.json (3D Tiles 1.1: coarsest at the root,\n"
 		     "                         each tile's geometricError its level's distance)\n"
 		     "  --tiles-transform M    16 numbers, column major: the tileset root's transform\n"
+		     "  --from-mlx SCRIPT      the GaussLOD filter's parameters of a MeshLab script (as\n"
+		     "                         the filter reads them; later options win)\n"
 		     "  --json                 one JSON line per level instead of the table\n"
 		     "  earlier spellings: --levels N, --straighten P, --merge P, --paper-superfaces\n"
 		     "  (= --across-cells false), --no-weld (= --weld-vertices false), --no-colour\n";
@@ -203,10 +281,22 @@ const char *optionHelp()
 	return help.c_str();
 }
 
-bool parseOptions(const std::vector<std::string> &args, Options &o,
+bool parseOptions(const std::vector<std::string> &given, Options &o,
                   std::vector<std::string> &positional, std::string &error)
 {
 	bool maxLevelGiven = false;
+	// (a script's options stand where --from-mlx is: later ones win)
+	std::vector<std::string> args;
+	for (size_t i = 0; i < given.size(); ++i) {
+		if (given[i] != "--from-mlx") {
+			args.push_back(given[i]);
+			continue;
+		}
+		if (i + 1 >= given.size())
+			return error = "--from-mlx needs a MeshLab script", false;
+		if (!mlxOptions(given[++i], args, error))
+			return false;
+	}
 	for (size_t i = 0; i < args.size(); ++i) {
 		std::string flag = args[i], value;
 		bool valueGiven = false;

@@ -157,4 +157,28 @@ sed 's/name="levelsBy" value="[^"]*"/name="levelsBy" value="1"/; s/name="levelTa
 run bad_targets "$data/cow.off" "$work/bad_targets" "$work/bad_targets.mlx"
 expect_failure bad_targets "GaussLOD failed: Levels by (levelsBy): the target 50% is given twice"
 
+# the glTF options: the tool makes the renderer's levels with the script's parameters, the same
+# levels as MeshLab's layers (the runner checks their face counts), a tileset of them
+run gltf "$data/cow.off" "$work/gltf" "$(dirname "$runner")/gausslod_budget.mlx" --3dtiles --lod-file
+[ $rc -eq 0 ] && pass "gltf: exit 0" || fail "gltf: exit $rc"
+for l in 3 2 1 0; do
+  if [ -s "$work/gltf/cow_LOD$l.ply" ] && [ -s "$work/gltf/cow_LOD$l.glb" ]; then
+    pass "gltf: LOD$l as PLY (MeshLab's layer) and glb"
+  else
+    fail "gltf: LOD$l: no PLY or no glb"
+  fi
+done
+python3 - "$work/gltf/tileset.json" <<'PY' && pass "gltf: tileset chain LOD0..LOD3 then the input" || fail "gltf: tileset"
+import json, sys
+t, names = json.load(open(sys.argv[1]))["root"], []
+while True:
+    names.append(t["content"]["uri"])
+    if "children" not in t:
+        break
+    t = t["children"][0]
+assert names == ["cow_LOD%d.glb" % i for i in range(4)] + ["cow_full.glb"], names
+PY
+run gltf_bad "$data/cow.off" "$work/gltf_bad" --format ply
+expect_failure gltf_bad "glb or gltf"
+
 finish test_run_gausslod
