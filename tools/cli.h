@@ -35,6 +35,7 @@ struct Options {
 	std::vector<double> tilesTransform; ///< --tiles-transform: the root's (16, column major)
 	std::string tilesetName = "tileset.json"; ///< --3dtiles: OUTDIR/<this> (batch: per input)
 	bool json = false;
+	bool quiet = false; ///< --quiet: no progress line on a terminal
 };
 
 /// Parses option tokens into `o` (later tokens override earlier ones) and checks the values with
@@ -72,8 +73,9 @@ using LevelDone = std::function<void(const Outcome &sofar, const gausslod::Level
 /// carries (level_files.h): each written under a temporary name in OUTDIR and renamed, so that
 /// no half-written level ever carries the final name. OUTDIR is created (with its parents) if
 /// missing.
+/// `progress`: the engine's (return false to cancel: the levels written so far stay, complete).
 Outcome runOne(const std::string &input, const std::string &outdir, const std::string &stem,
-               const Options &o, const LevelDone &done);
+               const Options &o, const LevelDone &done, const gausslod::Progress &progress = {});
 
 /// Reads and checks `input` as runOne does, without building levels.
 Outcome checkOne(const std::string &input, const Options &o);

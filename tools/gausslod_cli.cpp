@@ -8,6 +8,7 @@
 #include "level_files.h"
 
 #include <cctype>
+#include <csignal>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -274,6 +275,7 @@ const char *optionHelp()
 		     "  --from-mlx SCRIPT      the GaussLOD filter's parameters of a MeshLab script (as\n"
 		     "                         the filter reads them; later options win)\n"
 		     "  --json                 one JSON line per level instead of the table\n"
+		     "  --quiet                no progress line (printed on a terminal only)\n"
 		     "  earlier spellings: --levels N, --straighten P, --merge P, --paper-superfaces\n"
 		     "  (= --across-cells false), --no-weld (= --weld-vertices false), --no-colour\n";
 		return h;
@@ -307,8 +309,9 @@ bool parseOptions(const std::vector<std::string> &given, Options &o,
 				value = alias[2];
 			}
 		if (flag == "--json" || flag == "--overwrite-colours" || flag == "--lod-file" ||
-		    flag == "--3dtiles") {
+		    flag == "--3dtiles" || flag == "--quiet") {
 			(flag == "--json"       ? o.json
+			 : flag == "--quiet"    ? o.quiet
 			 : flag == "--lod-file" ? o.lodFile
 			 : flag == "--3dtiles"  ? o.tiles
 			                        : o.overwriteColours) = true;
@@ -672,7 +675,7 @@ void writeChain(const InputMesh &in, const Options &o, const std::string &outdir
 } // namespace
 
 Outcome runOne(const std::string &input, const std::string &outdir, const std::string &stem,
-               const Options &o, const LevelDone &done)
+               const Options &o, const LevelDone &done, const gausslod::Progress &progress)
 {
 	using gausslod::Params;
 	return withInput(input, o, [&](const InputMesh &in, const Params &p, Outcome &out) {
@@ -707,7 +710,7 @@ Outcome runOne(const std::string &input, const std::string &outdir, const std::s
 				done(out, stats, files[0]);
 			return true;
 		};
-		const gausslod::Result res = gausslod::buildLevels(in.flat.view(), p, {}, sink);
+		const gausslod::Result res = gausslod::buildLevels(in.flat.view(), p, progress, sink);
 		out.seconds = res.totalSeconds;
 		if (res.ok && writeError.empty() && writer && (o.lodFile || o.tiles))
 			writeChain(in, o, outdir, stem, *writer, out, writeError);
@@ -886,7 +889,46 @@ int main(int argc, char **argv)
 		}
 		std::fflush(stdout);
 	};
-	const cli::Outcome out = cli::runOne(input, outdir, stem, o, done);
+	// a progress line on a terminal (stderr, rewritten in place; cleared before each table row),
+	// and Ctrl-C: the engine stops at its next step, the levels already written stay (each is
+	// renamed into place only once complete), nothing half-written remains; a second Ctrl-C quits
+	static volatile std::sig_atomic_t interrupted = 0;
+	std::signal(SIGINT, [](int) {
+		interrupted = 1;
+		std::signal(SIGINT, SIG_DFL);
+	});
+	const bool showProgress = !o.quiet && !o.json && isatty(STDOUT_FILENO) && isatty(STDERR_FILENO);
+	int shownPercent = -1;
+	std::string shownStage;
+	auto clearProgress = [&]() {
+		if (shownPercent >= 0)
+			std::fprintf(stderr, "\r\033[K");
+		shownPercent = -1;
+	};
+	auto progress = [&](double fraction, const char *stage) {
+		if (showProgress) {
+			const int percent = int(100 * std::min(1.0, std::max(0.0, fraction)));
+			if (percent != shownPercent || shownStage != stage) {
+				std::fprintf(stderr, "\r\033[K%3d %%  %s", percent, stage);
+				std::fflush(stderr);
+				shownPercent = percent, shownStage = stage;
+			}
+		}
+		return interrupted == 0;
+	};
+	auto row = [&](const cli::Outcome &sofar, const gausslod::LevelStats &s, const std::string &f) {
+		clearProgress();
+		done(sofar, s, f);
+	};
+	const cli::Outcome out = cli::runOne(input, outdir, stem, o, row, progress);
+	clearProgress();
+	if (interrupted) {
+		cli::removeLevelParts(outdir, stem);
+		std::fprintf(stderr, "gausslod: interrupted: %zu level%s written, each complete; no "
+		                     "partial file left\n",
+		             out.files.size(), out.files.size() == 1 ? "" : "s");
+		return 130;
+	}
 	if (out.code != cli::kOk) {
 		std::fprintf(stderr, "gausslod: %s: %s\n", input.c_str(), out.message.c_str());
 		return out.code;
