@@ -145,7 +145,7 @@ LevelWriter::LevelWriter(const InputMesh &in, const Options &o, const std::strin
 	if (o.overwriteColours)
 		outAttrs_.vertColor = outAttrs_.faceColor = false;
 	// (glb: a renderer's file shows the surface's own colours, superfaces only when asked)
-	superfaceColours_ = o.colour && (o.overwriteColours || (!in.hasColour() && o.format != "glb"));
+	superfaceColours_ = o.colour && (o.overwriteColours || (!in.hasColour() && !glb_));
 	const gausslod::MeshAttributes &a = outAttrs_;
 	int mask = Mask::IOM_VERTCOORD | Mask::IOM_FACEINDEX;
 	mask |= in.normals ? int(Mask::IOM_VERTNORMAL) : 0;
@@ -370,6 +370,7 @@ void removeLevelParts(const std::string &outdir, const std::string &stem)
 {
 	for (const char *kind : {"_LOD", "_full.glb", "_lods.glb", "_tileset.json"})
 		removePartFiles(outdir, "." + stem + kind);
+	removePartFiles(outdir, ".tileset.json"); // (the tool's tileset of OUTDIR)
 }
 
 } // namespace cli
