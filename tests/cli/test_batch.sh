@@ -37,9 +37,10 @@ good=300 bad=20
 (cd "$work" && grep -v '^#' manifest.txt | shuf --random-source=<(yes) >manifest.txt.shuf &&
   { echo "# made by test_batch.sh"; cat manifest.txt.shuf; } >manifest.txt)
 
-# the superface levels (no level continued by collapses): what is tested here is the batch, on
-# many files; the continued levels are tested on their own (test_cli_targets.sh, core tests)
-superfaces_only="--complete-chain false"
+# the superface levels (no level continued by collapses, no certified distance): what is tested
+# here is the batch, on many files; the continued levels and the certified distance are tested
+# on their own (test_cli_targets.sh, core tests)
+superfaces_only="--complete-chain false --certify-distance false"
 
 # --- 1. run, SIGKILL after a third of the records, restart ---------------------------------------
 "$tool" batch --threads 1 --format ply $superfaces_only "$work/manifest.txt" "$work/out" >"$work/run1.jsonl" 2>"$work/run1.err" &
