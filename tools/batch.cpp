@@ -98,17 +98,6 @@ std::string readFile(const std::string &file)
 	return s.str();
 }
 
-bool writeAtomically(const std::string &file, const std::string &text)
-{
-	const std::string tmp = file + ".part-" + std::to_string(getpid());
-	{
-		std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-		out << text;
-		if (!out.flush())
-			return false;
-	}
-	return std::rename(tmp.c_str(), file.c_str()) == 0;
-}
 
 // Removes what a killed run left of `stem`: OUTDIR/<dir>/.<name>_LOD*.part-* (files, and the
 // folders OBJ levels are written in) and the record's.

@@ -80,6 +80,10 @@ Outcome runOne(const std::string &input, const std::string &outdir, const std::s
 /// Reads and checks `input` as runOne does, without building levels.
 Outcome checkOne(const std::string &input, const Options &o);
 
+/// Writes `text` as `file`: into FILE.part-<pid> first, then renamed (false if either failed; the
+/// temporary is removed).
+bool writeAtomically(const std::string &file, const std::string &text);
+
 /// `s` as a JSON string literal (quotes included).
 std::string jsonString(const std::string &s);
 /// The input repairs as JSON members (no braces), and as one line of text ("" if none).

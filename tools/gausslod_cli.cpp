@@ -395,6 +395,21 @@ bool parseOptions(const std::vector<std::string> &given, Options &o,
 	       gausslod::parseOutputLevels(o.outputLevels, o.params.maxLevel, o.params.outputLevels, error);
 }
 
+bool writeAtomically(const std::string &file, const std::string &text)
+{
+	const std::string tmp = file + ".part-" + std::to_string(getpid());
+	bool ok;
+	{
+		std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+		out << text;
+		ok = bool(out.flush());
+	}
+	ok = ok && std::rename(tmp.c_str(), file.c_str()) == 0;
+	if (!ok)
+		std::remove(tmp.c_str());
+	return ok;
+}
+
 std::string jsonString(const std::string &s)
 {
 	std::string out = "\"";
@@ -667,8 +682,9 @@ void writeChain(const InputMesh &in, const Options &o, const std::string &outdir
 			if (i < out.files.size() && i < errors.size())
 				tile(out.files[i], errors[i], out.levels[i].level, out.levels[i].faces);
 		tile(files[0], 0.0, -1, out.inputFaces);
-		if (!writeTileset(tiles, o.tilesTransform, outdir + "/" + o.tilesetName, error))
-			return;
+		const std::string file = outdir + "/" + o.tilesetName;
+		if (!writeAtomically(file, tilesetJson(tiles, o.tilesTransform)))
+			error = "cannot write " + file + ": " + std::strerror(errno);
 	}
 }
 

@@ -5,13 +5,10 @@
 
 #include <tiny_gltf.h>
 
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <sstream>
-#include <unistd.h>
 
 namespace cli {
 
@@ -197,11 +194,8 @@ bool writeGlb(const std::vector<const GltfMesh *> &meshes, const std::vector<dou
 	return true;
 }
 
-bool writeTileset(const std::vector<Tile> &tiles, const std::vector<double> &transform,
-                  const std::string &path, std::string &error)
+std::string tilesetJson(const std::vector<Tile> &tiles, const std::vector<double> &transform)
 {
-	if (tiles.empty())
-		return error = "no tiles", false;
 	double lo[3], hi[3];
 	for (int j = 0; j < 3; ++j) {
 		lo[j] = tiles[0].lo[j], hi[j] = tiles[0].hi[j];
@@ -242,22 +236,7 @@ bool writeTileset(const std::vector<Tile> &tiles, const std::vector<double> &tra
 		if (!leaf)
 			tail += "]}";
 	}
-	json += tail + "}\n";
-	const size_t slash = path.rfind('/');
-	const std::string tmp = path.substr(0, slash + 1) + "." + path.substr(slash + 1) + ".part-" +
-	                        std::to_string(getpid());
-	FILE *f = std::fopen(tmp.c_str(), "wb");
-	if (!f || std::fwrite(json.data(), 1, json.size(), f) != json.size() || std::fclose(f) != 0) {
-		error = "cannot write " + path + ": " + std::strerror(errno);
-		std::remove(tmp.c_str());
-		return false;
-	}
-	if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-		error = "cannot write " + path + ": " + std::strerror(errno);
-		std::remove(tmp.c_str());
-		return false;
-	}
-	return true;
+	return json + tail + "}\n";
 }
 
 } // namespace cli

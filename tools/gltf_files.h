@@ -211,13 +211,12 @@ struct Tile {
 	double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
 };
 
-/// Writes a 3D Tiles 1.1 tileset.json at `path`: `tiles` from the coarsest (the root) to the full
+/// A 3D Tiles 1.1 tileset.json's text: `tiles` (at least one) from the coarsest (the root) to the full
 /// detail (the leaf, error 0), each the only child of the one before, refinement REPLACE, each
 /// tile's geometricError its own error (what leaving it on screen costs), every bounding volume
 /// the box of all tiles (glTF's y up turned to 3D Tiles' z up), `transform` (16 numbers, column
 /// major) on the root if not empty, each tile's lod, paper level and faces in its extras
 /// ("gausslod"). The tileset's own geometricError is the box's diagonal.
-bool writeTileset(const std::vector<Tile> &tiles, const std::vector<double> &transform,
-                  const std::string &path, std::string &error);
+std::string tilesetJson(const std::vector<Tile> &tiles, const std::vector<double> &transform);
 
 } // namespace cli

@@ -368,9 +368,11 @@ static void removePartFiles(const std::string &dir, const std::string &prefix)
 
 void removeLevelParts(const std::string &outdir, const std::string &stem)
 {
-	for (const char *kind : {"_LOD", "_full.glb", "_lods.glb", "_tileset.json"})
+	for (const char *kind : {"_LOD", "_full.glb", "_lods.glb"})
 		removePartFiles(outdir, "." + stem + kind);
-	removePartFiles(outdir, ".tileset.json"); // (the tool's tileset of OUTDIR)
+	// (the tileset: batch's <name>_tileset.json, the tool's tileset.json; writeAtomically's parts)
+	removePartFiles(outdir, stem + "_tileset.json");
+	removePartFiles(outdir, "tileset.json");
 }
 
 } // namespace cli
