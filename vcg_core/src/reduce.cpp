@@ -21,7 +21,6 @@
 
 #include <Eigen/Eigenvalues>
 
-#include <queue>
 
 namespace gausslod {
 namespace detail {
@@ -83,15 +82,99 @@ struct Entry {
 	int32_t a, b;
 	uint32_t sa, sb;
 	uint8_t op, tried;
-	bool operator<(const Entry &o) const // (the heap's top: least cost, then lowest a, b, op)
+	bool before(const Entry &o) const // (first out: least cost, then lowest a, b, op)
 	{
 		if (cost != o.cost)
-			return cost > o.cost;
+			return cost < o.cost;
 		if (a != o.a)
-			return a > o.a;
+			return a < o.a;
 		if (b != o.b)
-			return b > o.b;
-		return op > o.op;
+			return b < o.b;
+		return op < o.op;
+	}
+};
+
+// The collapses in line: a 4-ary heap of (cost, slot) keys over a pool of entries. Its pops are
+// the loop's largest cost, each a walk down a heap too large for the cache: four children to a
+// key halve the levels, and 16-byte keys put them on one cache line.
+class CollapseQueue {
+public:
+	void assign(std::vector<Entry> &&all)
+	{
+		pool_ = std::move(all);
+		free_.clear();
+		keys_.resize(pool_.size());
+		for (size_t i = 0; i < pool_.size(); ++i)
+			keys_[i] = {pool_[i].cost, uint32_t(i)};
+		for (size_t i = keys_.size() / 4 + 1; i-- > 0;)
+			if (i < keys_.size())
+				down(i, keys_[i]);
+	}
+	bool empty() const { return keys_.empty(); }
+	const Entry &top() const { return pool_[keys_[0].slot]; }
+	void pop()
+	{
+		free_.push_back(keys_[0].slot);
+		const Key last = keys_.back();
+		keys_.pop_back();
+		if (!keys_.empty())
+			down(0, last);
+	}
+	void push(const Entry &e)
+	{
+		uint32_t s;
+		if (free_.empty()) {
+			s = uint32_t(pool_.size());
+			pool_.push_back(e);
+		} else {
+			s = free_.back();
+			free_.pop_back();
+			pool_[s] = e;
+		}
+		keys_.push_back({e.cost, s});
+		up(keys_.size() - 1, keys_.back());
+	}
+
+private:
+	struct Key {
+		double cost;
+		uint32_t slot;
+	};
+	std::vector<Key> keys_;
+	std::vector<Entry> pool_;
+	std::vector<uint32_t> free_;
+	bool before(const Key &x, const Key &y) const
+	{
+		return x.cost != y.cost ? x.cost < y.cost : pool_[x.slot].before(pool_[y.slot]);
+	}
+	void down(size_t i, const Key k)
+	{
+		const size_t n = keys_.size();
+		for (;;) {
+			const size_t c = 4 * i + 1;
+			if (c >= n)
+				break;
+			size_t best = c;
+			for (size_t j = c + 1; j < std::min(c + 4, n); ++j)
+				if (before(keys_[j], keys_[best]))
+					best = j;
+			if (!before(keys_[best], k))
+				break;
+			keys_[i] = keys_[best];
+			i = best;
+		}
+		keys_[i] = k;
+	}
+	void up(size_t i, const Key k)
+	{
+		while (i > 0) {
+			const size_t p = (i - 1) / 4;
+			if (!before(k, keys_[p]))
+				break;
+			keys_[i] = keys_[p];
+			i = p;
+		}
+		keys_[i] = k;
 	}
 };
 
@@ -168,7 +251,7 @@ private:
 	std::vector<NormalCone> cone_;
 	std::vector<float> uvErr_;
 	std::vector<Quadric> Q_;
-	std::priority_queue<Entry> heap_;
+	CollapseQueue heap_;
 	size_t live_ = 0, collapses_ = 0;
 	std::vector<int32_t> scratch_;
 
@@ -1225,7 +1308,7 @@ bool Reducer::run(CollapseSource &out, ReduceReport &report)
 		for (auto &b : byChunk)
 			all.insert(all.end(), b.begin(), b.end());
 		byChunk.clear();
-		heap_ = std::priority_queue<Entry>(std::less<Entry>(), std::move(all));
+		heap_.assign(std::move(all));
 		std::fill(blocked_.begin(), blocked_.end(), 0);
 		const size_t before = collapses_;
 		Plan pl;
