@@ -259,8 +259,11 @@ QString levelLogLine(const gausslod::LevelStats &s, double diag)
 		                     : QString("%1 faces").arg(thousands(s.targetFaces)))
 		            .arg(s.targetReached          ? "reached"
 		                 : s.targetDistance >= 0 ? "NOT reached (measured above it)"
-		                                         : "NOT reached (the least the kept delimiters, "
-		                                           "boundaries and legal collapses allow)")
+		                                         : "NOT reached (" + thousands(s.faces) +
+		                                               " faces: " +
+		                                               QString::fromStdString(
+		                                                   gausslod::budgetNote(s)) +
+		                                               ")")
 		            .arg(QString::number(100.0 * s.tolerance, 'g', 4))
 		            .arg(s.trials)
 		            .arg(s.trials == 1 ? "" : "s");

@@ -469,11 +469,18 @@ std::string targetJson(const gausslod::Params &p, const gausslod::LevelStats &s)
 	const char *mode = !p.levelFaces.empty()       ? "faces"
 	                   : !p.levelDistances.empty() ? "error"
 	                                               : "angle";
+	char least[32] = "null", loops[32] = "null";
+	if (!s.targetReached && s.targetFaces > 0) {
+		if (s.leastFaces > 0)
+			std::snprintf(least, sizeof least, "%zu", s.leastFaces);
+		std::snprintf(loops, sizeof loops, "%zu", s.boundaryLoops);
+	}
 	std::snprintf(buf, sizeof buf,
 	              "\"levels_by\":\"%s\",\"target_faces\":%s,\"target_error_pct\":%s,"
-	              "\"target_reached\":%s,\"tolerance_pct\":%.6g,\"trials\":%d",
-	              mode, faces, error, s.targetReached ? "true" : "false", 100.0 * s.tolerance,
-	              s.trials);
+	              "\"target_reached\":%s,\"least_faces\":%s,\"boundary_loops\":%s,"
+	              "\"tolerance_pct\":%.6g,\"trials\":%d",
+	              mode, faces, error, s.targetReached ? "true" : "false", least, loops,
+	              100.0 * s.tolerance, s.trials);
 	return buf;
 }
 
@@ -965,6 +972,12 @@ int main(int argc, char **argv)
 			            "meandev: measured, each input face against the level's nearest triangle)\n",
 			            reduced.c_str(),
 			            targets ? "the level's target" : "a real step (--complete-chain)");
+		for (const gausslod::LevelStats &l : out.levels) {
+			const std::string note = gausslod::budgetNote(l);
+			if (!note.empty())
+				std::printf("LOD%d: %zu faces for a budget of %zu: %s\n", l.level, l.faces,
+				            l.targetFaces, note.c_str());
+		}
 		std::printf("total %.3f s; files in %s\n", out.seconds, outdir.c_str());
 	}
 	return 0;

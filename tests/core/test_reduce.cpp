@@ -1,6 +1,7 @@
 // Levels continued by collapses (docs/DESIGN.md, 51): the default chain's real steps, budgets on
 // textured meshes, the shapes a step must not break.
 #include "engine.h"
+#include "reduce.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -148,4 +149,66 @@ TEST(Budgets, a_textured_mesh_reaches_the_budgets_of_its_bare_geometry)
 		EXPECT_EQ(again.levels[i].triangles, tex.levels[i].triangles);
 		EXPECT_EQ(again.levels[i].cornerUV, tex.levels[i].cornerUV);
 	}
+}
+
+TEST(Reduce, least_faces_of_a_topology_count_parts_genera_and_boundary_loops)
+{
+	using detail::levelTopology;
+	// a triangle: one loop, itself the least
+	auto tri = levelTopology({0, 1, 2}, 3);
+	EXPECT_EQ(tri.components, 1u);
+	EXPECT_EQ(tri.boundaryLoops, 1u);
+	EXPECT_EQ(tri.leastFaces, 1u);
+	// a tetrahedron and, apart, a strip of two triangles (one loop): 4 + 1
+	auto two = levelTopology({0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2, 4, 5, 6, 4, 6, 7}, 8);
+	EXPECT_TRUE(two.manifold);
+	EXPECT_EQ(two.components, 2u);
+	EXPECT_EQ(two.boundaryLoops, 1u);
+	EXPECT_EQ(two.leastFaces, 5u);
+	// a 4 x 4 grid torus: closed, genus 1, at least 7 vertices and 14 faces (Heawood)
+	std::vector<int32_t> torus;
+	for (int j = 0; j < 4; ++j)
+		for (int i = 0; i < 4; ++i) {
+			const int32_t a = j * 4 + i, b = j * 4 + (i + 1) % 4, c = ((j + 1) % 4) * 4 + i,
+			              d = ((j + 1) % 4) * 4 + (i + 1) % 4;
+			torus.insert(torus.end(), {a, b, d, a, d, c});
+		}
+	auto t = levelTopology(torus, 16);
+	EXPECT_EQ(t.boundaryLoops, 0u);
+	EXPECT_EQ(t.leastFaces, 14u);
+	// an annulus (a 3 x 1 strip closed around): two loops of 3, 6 faces, the least
+	std::vector<int32_t> ring;
+	for (int i = 0; i < 3; ++i)
+		ring.insert(ring.end(), {i, (i + 1) % 3, 3 + i, (i + 1) % 3, 3 + (i + 1) % 3, 3 + i});
+	auto r = levelTopology(ring, 6);
+	EXPECT_EQ(r.boundaryLoops, 2u);
+	EXPECT_EQ(r.leastFaces, 6u);
+	// three triangles on one edge: no claim
+	auto nm = levelTopology({0, 1, 2, 1, 0, 3, 0, 1, 4}, 5);
+	EXPECT_FALSE(nm.manifold);
+	EXPECT_EQ(nm.leastFaces, 0u);
+}
+
+TEST(Reduce, a_budget_under_what_the_holes_allow_stops_there_and_says_so)
+{
+	// CGAL's pig has 7 holes: with each kept open (a triangle at least) and genus 0, a mesh has
+	// at least 5 x 7 - 4 = 31 faces; a 2 % budget (17) stops there, and the level says why
+	const FlatMesh pig = loadOff("pig.off");
+	Params prm;
+	std::string error;
+	ASSERT_TRUE(parseLevelsBy("faces:10%,2%", prm, error)) << error;
+	prm.certifyDistance = false;
+	const Result r = buildLevels(pig.view(), prm);
+	ASSERT_TRUE(r.ok) << r.error;
+	const LevelStats &hi = r.levels.front().stats, &lo = r.levels.back().stats;
+	EXPECT_TRUE(hi.targetReached);
+	EXPECT_EQ(budgetNote(hi), "");
+	EXPECT_FALSE(lo.targetReached);
+	EXPECT_EQ(lo.targetFaces, 17u);
+	EXPECT_EQ(lo.boundaryLoops, 7u);
+	EXPECT_EQ(lo.leastFaces, 31u);
+	EXPECT_EQ(lo.faces, 31u);
+	EXPECT_NE(budgetNote(lo).find("the least a mesh of its topology can have (7 boundary loops"),
+	          std::string::npos)
+	    << budgetNote(lo);
 }

@@ -319,6 +319,14 @@ struct LevelStats {
 	size_t targetFaces = 0;      ///< faces mode: the level's face budget (percentages resolved)
 	double targetDistance = -1;  ///< error mode: the level's tolerance, fraction of the diagonal
 	bool targetReached = true;   ///< faces <= targetFaces; maxDistance <= targetDistance
+	/// Faces mode, budget not reached: the least faces a mesh of the level's topology can have
+	/// (its components, genera and boundary loops kept, each loop a triangle at least; 0 = no
+	/// claim, a non-manifold level) and its boundary loops. faces == leastFaces: the budget is
+	/// below what keeping the holes open allows; above it, no collapse was left that keeps the
+	/// boundaries, delimiters (seams, materials) and shape valid.
+	size_t leastFaces = 0;
+	size_t boundaryLoops = 0;
+	size_t components = 0; ///< (its connected parts, with leastFaces)
 	double tolerance = 0;        ///< the distance tolerance the level was built with, fraction of
 	                             ///< the diagonal (0 = none); faces mode: the one the search chose
 	int trials = 1;              ///< builds of the level (faces mode: the tolerance search's)
@@ -338,6 +346,10 @@ struct LevelStats {
 	                             ///< level's bound too)
 	InputStats input;            ///< what this level's input repairs were (Result::input)
 };
+
+/// Why a level's face budget was not reached, a clause for the tool's table and the filter's
+/// log ("" if it was, or the level had no face budget).
+std::string budgetNote(const LevelStats &s);
 
 struct LevelMesh {
 	std::vector<double> positions;     ///< xyz per output vertex

@@ -396,14 +396,21 @@ void buildToFaceTarget(const detail::Topology &topo, const Params &params,
 }
 
 // What a level was asked for (levels by target) and whether it got it.
-void setTargetStats(const Params &p, int level, size_t target, double diagonal, LevelStats &st)
+void setTargetStats(const Params &p, int level, size_t target, double diagonal, LevelMesh &lm)
 {
+	LevelStats &st = lm.stats;
 	st.targetFaces = 0;
 	st.targetDistance = -1;
 	st.targetReached = true;
 	if (!p.levelFaces.empty()) {
 		st.targetFaces = target;
 		st.targetReached = st.faces <= target;
+		if (!st.targetReached) {
+			const detail::LevelTopology lt = detail::levelTopology(lm.triangles, lm.positions.size() / 3);
+			st.leastFaces = lt.leastFaces;
+			st.boundaryLoops = lt.boundaryLoops;
+			st.components = lt.components;
+		}
 	} else if (!p.levelDistances.empty()) {
 		st.targetDistance = p.levelDistances[size_t(level)];
 		// (the level's distance bound, rounded up as a float: DESIGN 23; or its certified
@@ -841,7 +848,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 					return false;
 				certify(input, out, inputTree, threads);
 			}
-			setTargetStats(params, level, target, topo.diagonal, out.stats);
+			setTargetStats(params, level, target, topo.diagonal, out);
 			if (const size_t lost = uncoveredFaces(topo, out))
 				return fail(res, ErrorKind::Internal,
 				            "internal error: level " + std::to_string(level) +

@@ -58,5 +58,17 @@ bool reduceLevel(const Topology &t, const MeshView &mesh, const CollapseSource &
                  const ReduceLimits &lim, size_t threads, CollapseSource &out,
                  ReduceReport &report);
 
+/// A level's topology, for what a face budget cannot go under (level_topology.cpp).
+struct LevelTopology {
+	size_t components = 0;
+	size_t boundaryLoops = 0; ///< (loops that touch at a vertex count as one)
+	bool manifold = true;     ///< no edge with more than two triangles
+	/// The least faces a mesh of these components, genera and boundary loops can have (each
+	/// loop a triangle at least, no vertex inside; closed: a tetrahedron, or Heawood's bound);
+	/// 0 on a non-manifold level
+	size_t leastFaces = 0;
+};
+LevelTopology levelTopology(const std::vector<int32_t> &triangles, size_t nV);
+
 } // namespace detail
 } // namespace gausslod
