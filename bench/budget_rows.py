@@ -6,7 +6,8 @@ dino, armadillo, bunny00) and on a textured scan made here by Blender (armadillo
 one 1024 texture: bench/blender_uv_scan.py), then each peer at every level's face count: meshopt,
 CGAL's Garland-Heckbert and MeshLab's quadric decimation (meshlabserver) on the bare models;
 MeshLab's quadric decimation with texture on the textured one (the best peer for it). Every output
-is measured by bench_metrics against its input. Writes BUDGETS.md (tables, per-peer medians,
+is measured by bench_metrics against its input (the textured one also by bench_texdev). Writes
+BUDGETS.md (tables, per-peer medians,
 the levels some peer beats in both Hausdorff distance and p95 normal deviation) and
 budgets.jsonl (every row) into the results folder.
 
@@ -85,9 +86,15 @@ def main():
     have_blender = shutil.which("blender")
     ml_env = dict(os.environ, QT_QPA_PLATFORM="xcb")
 
-    def metrics(orig, simp):
+    def metrics(orig, simp, tex=False):
         out = must([exe("bench_metrics"), "--samples", str(a.samples), orig, simp])
-        return json.loads(out.strip().splitlines()[-1])
+        m = json.loads(out.strip().splitlines()[-1])
+        if tex:  # (how far the texture moved: bench_texdev, texels of the 1024 texture)
+            t = json.loads(must([exe("bench_texdev"), "--samples", str(a.samples), orig, simp])
+                           .strip().splitlines()[-1])
+            m["tex_shift_median_texels"] = t["shift_median_texels"]
+            m["tex_over_2_texels_pct"] = t["over_2_texels_pct"]
+        return m
 
     def cached(key, fn):
         path = os.path.join(cache, hashlib.sha1(key.encode()).hexdigest() + ".json")
@@ -116,8 +123,9 @@ def main():
 
     def peer(src, method, faces):
         st = os.stat(src)
-        key = "%s|%d|%d|%s|%d|%d" % (os.path.abspath(src), st.st_size, int(st.st_mtime), method,
-                                     faces, a.samples)
+        key = "%s|%d|%d|%s|%d|%d%s" % (os.path.abspath(src), st.st_size, int(st.st_mtime), method,
+                                       faces, a.samples,
+                                       "|texdev" if method == "meshlab_quadric_tex" else "")
 
         def make():
             d = tempfile.mkdtemp(prefix="budget_peer.", dir=work)
@@ -133,7 +141,7 @@ def main():
                               (["-m", "wt"] if tex else []) + ["-s", script], env=ml_env)
                 if not os.path.exists(out):
                     return {"error": (r.stderr or r.stdout)[-300:]}
-                m = metrics(src, out)
+                m = metrics(src, out, tex)
                 m["seconds_wall"] = wall
             else:
                 out = os.path.join(d, "out.ply")
@@ -159,7 +167,7 @@ def main():
         wall = time.time() - t0
         peers = TEX_PEERS if name == TEXTURED else BARE_PEERS
         for lv in levels:
-            ours = metrics(src, lv["file"])
+            ours = metrics(src, lv["file"], name == TEXTURED)
             row = {"model": name, "level": lv["level"], "target": lv["target_faces"],
                    "faces": lv["faces"], "reached": lv["target_reached"],
                    "bound_pct": lv["distance_bound_pct"], "tex_error": lv.get("max_tex_error"),
@@ -232,6 +240,23 @@ def write_report(a, rows):
             r["model"], r["level"], r["target"], r["faces"], "yes" if r["reached"] else "NO",
             r["ours"]["hausdorff_pct"], r["ours"]["normal_p95_deg"],
             "%.4g" % r["bound_pct"] if r["bound_pct"] is not None else "-", " | ".join(cells)))
+    tex = [r for r in rows if "tex_shift_median_texels" in r["ours"]]
+    if tex:
+        L += ["", "## Texture shift on the textured model", "",
+              "`bench_texdev`: samples on the level, each one's texture coordinates against "
+              "the input's at its closest point, in texels of the 1024 texture (median; share "
+              "of samples over 2 texels, which counts samples whose closest point is across a "
+              "seam).", "",
+              "| model | level | faces | ours median | peer median | ours > 2 texels % | "
+              "peer > 2 texels % |", "|---|---|---|---|---|---|---|"]
+        for r in tex:
+            m = next((m for m in r["peers"].values()
+                      if usable(m) and "tex_shift_median_texels" in m), None)
+            L.append("| %s | L%d | %d | %.3g | %s | %.3g | %s |" % (
+                r["model"], r["level"], r["faces"], r["ours"]["tex_shift_median_texels"],
+                "%.3g" % m["tex_shift_median_texels"] if m else "-",
+                r["ours"]["tex_over_2_texels_pct"],
+                "%.3g" % m["tex_over_2_texels_pct"] if m else "-"))
     walls = {}
     for r in rows:
         walls[r["model"]] = r["wall_all_levels"]

@@ -733,8 +733,8 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			}
 			if (reduce && topo.UV && params.maxTexError > 0) {
 				// (a coarser level is seen smaller: its limit in texels of its own screen size,
-				// the input's limit times the square root of the faces it has fewer; a limit that
-				// would keep a budget or a step from being reached gives way, doubling)
+				// the input's limit times the square root of the faces it has fewer; kept by
+				// levels by error, measured against by budgets and steps: DESIGN 54)
 				const size_t seen = rl.faces > 0 ? rl.faces : std::max<size_t>(chainFaces, 1);
 				rl.texError = params.maxTexError *
 				              std::sqrt(double(full.faceCount) / double(std::max<size_t>(seen, 1)));

@@ -64,7 +64,9 @@ constexpr int kMaxRing = 32;          // a vertex with more triangles around it 
 constexpr double kFacing = 1e-3;      // cos of the steepest triangle allowed against the patch
 constexpr double kFacingCells = 3;    // the thin-part test's reach, in face-grid cells
 constexpr double kBorderWeight = 1.0; // boundary and delimiter planes, per squared edge length
-constexpr double kOverTexLimit = 1e3; // beyond a soft texture limit: cost + this x the diagonal
+// The texture's shift in a collapse's cost, as a share of its mesh-unit size (DESIGN 54: at 1 the
+// seams' collapses went so far ahead that the distance doubled; 0.1 keeps the order geometric)
+constexpr double kTexShiftWeight = 0.1;
 
 // (kJunction: where delimiters meet or one ends. Where a face count is asked, seams and junctions
 // also move across charts: a chart that loses its corner extends its mapping to the kept vertex)
@@ -221,7 +223,6 @@ struct Plan {
 	int32_t newSrc[PatchCase::kMaxTris];
 	float newUV[PatchCase::kMaxTris][2];
 	bool extended[PatchCase::kMaxTris]; // (its chart's mapping extended to the kept vertex)
-	bool overTexLimit = false;          // (beyond a soft texture limit)
 	PatchProof proof;
 	double bound[PatchCase::kMaxTris];
 	double uvBound[PatchCase::kMaxTris];
@@ -930,18 +931,14 @@ bool Reducer::textureError(Plan &pl) const
 	if (uv_.empty())
 		return true;
 	const double local = uvLocal(pl);
-	pl.overTexLimit = false;
 	for (int i = 0; i < c.nNew; ++i) {
 		double worst = 0;
 		for (int j = 0; j < c.nOld; ++j)
 			if (pl.proof.under[i] >> j & 1)
 				worst = std::max(worst, double(uvErr_[size_t(pl.oldId[j])]));
 		pl.uvBound[i] = worst + local;
-		if (lim_.texError > 0 && pl.uvBound[i] > lim_.texError) {
-			if (!lim_.texErrorSoft)
-				return false;
-			pl.overTexLimit = true; // (ordered after every collapse within it)
-		}
+		if (lim_.texError > 0 && !lim_.texErrorSoft && pl.uvBound[i] > lim_.texError)
+			return false;
 	}
 	return true;
 }
@@ -1035,8 +1032,8 @@ double Reducer::uvLocal(const Plan &pl) const
 
 double Reducer::textureShift(const Plan &pl) const
 {
-	// the texture error at the removed vertices in mesh units: UV units times the old patch's
-	// length per UV unit (the square root of its area over its area in texture space)
+	// the texture error at the removed vertices in mesh units (UV units times the old patch's
+	// length per UV unit: the square root of its area over its area in texture space), weighted
 	double a3 = 0, a2 = 0;
 	for (int j = 0; j < pl.pc.nOld; ++j) {
 		const size_t f = size_t(pl.oldId[j]);
@@ -1044,7 +1041,7 @@ double Reducer::textureShift(const Plan &pl) const
 		const float *t = &uv_[6 * f];
 		a2 += std::fabs((t[2] - t[0]) * (t[5] - t[1]) - (t[3] - t[1]) * (t[4] - t[0]));
 	}
-	return a2 > 0 ? uvLocal(pl) * std::sqrt(a3 / a2) : 0.0;
+	return a2 > 0 ? kTexShiftWeight * uvLocal(pl) * std::sqrt(a3 / a2) : 0.0;
 }
 
 void Reducer::wedges(Plan &pl) const
@@ -1355,8 +1352,7 @@ bool Reducer::run(CollapseSource &out, ReduceReport &report)
 				g = std::max(g, pl.proof.gap[i]);
 			if (!uv_.empty())
 				g += textureShift(pl);
-			const double now =
-			    cost(top.a, top.b, g, q) + (pl.overTexLimit ? kOverTexLimit * t_.diagonal : 0.0);
+			const double now = cost(top.a, top.b, g, q);
 			if (now > top.cost * (1 + 1e-9) && !heap_.empty() &&
 			    now > heap_.top().cost * (1 + 1e-9)) {
 				top.cost = now;

@@ -26,8 +26,8 @@ struct ReduceLimits {
 	                          ///< for (>= 180: only the facing tests)
 	double texError = 0;      ///< with texture coordinates: every triangle's UV error bound at
 	                          ///< most this, UV units (0 = no limit)
-	bool texErrorSoft = false; ///< the collapses beyond the limit still go, after every collapse
-	                           ///< within it (the face budget first)
+	bool texErrorSoft = false; ///< the limit is measured against, not kept: collapses beyond it
+	                           ///< go in their order (DESIGN 54; the face budget first)
 	bool placement = true;    ///< full collapses placed by the quadric (no texture coordinates)
 	int level = 0;            ///< Gauss-sphere level: the output's superfaces are its cells'
 	/// The output's superfaces are the source's, merged where a collapse joins them (DESIGN 50:
