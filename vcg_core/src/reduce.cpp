@@ -96,87 +96,62 @@ struct Entry {
 	}
 };
 
-// The collapses in line: a 4-ary heap of (cost, slot) keys over a pool of entries. Its pops are
-// the loop's largest cost, each a walk down a heap too large for the cache: four children to a
-// key halve the levels, and 16-byte keys put them on one cache line.
+// The collapses in line: a 4-ary heap. Its pops are the loop's largest cost, each a walk down a
+// heap too large for the cache: four children to an entry halve the levels of a binary heap.
 class CollapseQueue {
 public:
 	void assign(std::vector<Entry> &&all)
 	{
-		pool_ = std::move(all);
-		free_.clear();
-		keys_.resize(pool_.size());
-		for (size_t i = 0; i < pool_.size(); ++i)
-			keys_[i] = {pool_[i].cost, uint32_t(i)};
-		for (size_t i = keys_.size() / 4 + 1; i-- > 0;)
-			if (i < keys_.size())
-				down(i, keys_[i]);
+		e_ = std::move(all);
+		for (size_t i = e_.size() / 4 + 1; i-- > 0;)
+			if (i < e_.size())
+				down(i, e_[i]);
 	}
-	bool empty() const { return keys_.empty(); }
-	const Entry &top() const { return pool_[keys_[0].slot]; }
+	bool empty() const { return e_.empty(); }
+	const Entry &top() const { return e_[0]; }
 	void pop()
 	{
-		free_.push_back(keys_[0].slot);
-		const Key last = keys_.back();
-		keys_.pop_back();
-		if (!keys_.empty())
+		const Entry last = e_.back();
+		e_.pop_back();
+		if (!e_.empty())
 			down(0, last);
 	}
-	void push(const Entry &e)
+	void push(const Entry &x)
 	{
-		uint32_t s;
-		if (free_.empty()) {
-			s = uint32_t(pool_.size());
-			pool_.push_back(e);
-		} else {
-			s = free_.back();
-			free_.pop_back();
-			pool_[s] = e;
-		}
-		keys_.push_back({e.cost, s});
-		up(keys_.size() - 1, keys_.back());
+		e_.push_back(x);
+		up(e_.size() - 1, x);
 	}
 
 private:
-	struct Key {
-		double cost;
-		uint32_t slot;
-	};
-	std::vector<Key> keys_;
-	std::vector<Entry> pool_;
-	std::vector<uint32_t> free_;
-	bool before(const Key &x, const Key &y) const
+	std::vector<Entry> e_;
+	void down(size_t i, const Entry x)
 	{
-		return x.cost != y.cost ? x.cost < y.cost : pool_[x.slot].before(pool_[y.slot]);
-	}
-	void down(size_t i, const Key k)
-	{
-		const size_t n = keys_.size();
+		const size_t n = e_.size();
 		for (;;) {
 			const size_t c = 4 * i + 1;
 			if (c >= n)
 				break;
 			size_t best = c;
 			for (size_t j = c + 1; j < std::min(c + 4, n); ++j)
-				if (before(keys_[j], keys_[best]))
+				if (e_[j].before(e_[best]))
 					best = j;
-			if (!before(keys_[best], k))
+			if (!e_[best].before(x))
 				break;
-			keys_[i] = keys_[best];
+			e_[i] = e_[best];
 			i = best;
 		}
-		keys_[i] = k;
+		e_[i] = x;
 	}
-	void up(size_t i, const Key k)
+	void up(size_t i, const Entry x)
 	{
 		while (i > 0) {
 			const size_t p = (i - 1) / 4;
-			if (!before(k, keys_[p]))
+			if (!x.before(e_[p]))
 				break;
-			keys_[i] = keys_[p];
+			e_[i] = e_[p];
 			i = p;
 		}
-		keys_[i] = k;
+		e_[i] = x;
 	}
 };
 
