@@ -4,13 +4,12 @@
 // Each collapse replaces a patch of triangles (the triangles around one vertex, or around both
 // ends of an edge) by a fan over the same outline, from the kept vertex: at the position where
 // the quadric of the input planes it took over is least (a full collapse), or at the kept
-// vertex's own position (a half-edge collapse: along a mesh boundary, a seam, into a vertex that
-// must stay, or everywhere on an input with texture coordinates). Where the patch and the fan are
-// both one-to-one over the plane orthogonal to the patch's normal, they are two height fields over
-// one polygon, and their vertical gap, linear on each cell of the overlay of the two
-// triangulations, is largest at a vertex of the overlay: that gap, added to the bounds of the
-// patch triangles under each fan triangle, is the fan triangle's proven distance bound (both
-// ways). The order is the quadric's (Garland and Heckbert): least error first.
+// vertex's own position (a half-edge collapse: along a mesh boundary, a seam, or into a vertex
+// that must stay). Where the patch and the fan are both one-to-one over the plane orthogonal to
+// the patch's normal, they are two height fields over one polygon, and their vertical gap, linear
+// on each cell of the overlay of the two triangulations, is largest at a vertex of the overlay:
+// that gap, added to the bounds of the patch triangles under each fan triangle, is the fan
+// triangle's proven distance bound (both ways). The order is the quadric's (Garland and Heckbert): least error first.
 #pragma once
 
 #include "level_collapse.h"
