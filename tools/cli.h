@@ -58,6 +58,7 @@ struct Outcome {
 	std::vector<std::string> materialFiles;   ///< per level: its OBJ material file, or ""
 	std::string format;                       ///< of the level files (ply, obj, off, stl)
 	std::vector<std::string> attributes;      ///< the input's attributes the files carry
+	std::vector<std::string> readNotes;       ///< what the reader skipped (input repairs)
 	bool superfaceColours = false;            ///< faces coloured by superface
 	bool texCoords = false;                   ///< the input has texture coordinates (texture
 	                                          ///< error measured)
@@ -88,7 +89,8 @@ bool writeAtomically(const std::string &file, const std::string &text);
 std::string jsonString(const std::string &s);
 /// The input repairs as JSON members (no braces), and as one line of text ("" if none).
 std::string repairsJson(const gausslod::InputStats &in);
-std::string repairsText(const gausslod::InputStats &in);
+std::string repairsText(const gausslod::InputStats &in,
+                        const std::vector<std::string> &readNotes = {});
 
 /// One level's JSON object: `gausslod --json` prints one per line, and batch records list them
 /// (one function, so that the two never differ): the level's figures, its distance bound, the

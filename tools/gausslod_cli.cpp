@@ -536,11 +536,13 @@ std::string levelJson(const gausslod::Params &p, const Outcome &o, size_t i)
 	return json + "}";
 }
 
-std::string repairsText(const gausslod::InputStats &in)
+std::string repairsText(const gausslod::InputStats &in, const std::vector<std::string> &readNotes)
 {
 	std::string s;
 	char buf[160];
 	auto add = [&](const char *text) { s += s.empty() ? "" : "; ", s += text; };
+	for (const std::string &n : readNotes)
+		add(n.c_str());
 	if (in.weldedVertices) {
 		std::snprintf(buf, sizeof buf, "%zu vertices welded (%zu faces re-indexed)",
 		              in.weldedVertices, in.facesReindexed);
@@ -576,8 +578,10 @@ Outcome withInput(const std::string &input, const Options &o, Fn fn)
 	try {
 		InputMesh in;
 		gausslod::Params p;
-		if (readInput(input, o, in, p, out))
+		if (readInput(input, o, in, p, out)) {
+			out.readNotes = in.readNotes;
 			fn(in, p, out);
+		}
 	} catch (const std::bad_alloc &) {
 		setError(out, kNoMemory, "out_of_memory", "out of memory");
 	}
@@ -858,7 +862,7 @@ int main(int argc, char **argv)
 			std::fprintf(stderr, "gausslod: %s: %s\n", input.c_str(), out.message.c_str());
 			return out.code;
 		}
-		const std::string repairs = cli::repairsText(out.levels[0].input);
+		const std::string repairs = cli::repairsText(out.levels[0].input, out.readNotes);
 		std::printf("%s: ok: %zu faces, %zu vertices%s%s\n", input.c_str(), out.inputFaces,
 		            out.inputVertices, repairs.empty() ? "" : "; ", repairs.c_str());
 		return 0;
@@ -871,7 +875,7 @@ int main(int argc, char **argv)
 	auto done = [&](const cli::Outcome &sofar, const gausslod::LevelStats &s, const std::string &) {
 		const bool texture = sofar.texCoords;
 		if (sofar.files.size() == 1 && !o.json) {
-			const std::string repairs = cli::repairsText(s.input);
+			const std::string repairs = cli::repairsText(s.input, sofar.readNotes);
 			if (!repairs.empty())
 				std::printf("input repairs: %s\n", repairs.c_str());
 			if (s.input.coplanarRegions)

@@ -82,6 +82,7 @@ bool readInputMesh(const std::string &path, const gausslod::Params &p, InputMesh
 		if (!gausslod::importMeshEither(lean, *full, withAttributes, path, kAttributeMask, error,
 		                                &info, &flat))
 			return false;
+		in.readNotes = info.notes;
 		in.normals = (info.mask & Mask::IOM_VERTNORMAL) != 0;
 		if (flat.used) {
 			in.flat.positions = std::move(flat.positions);

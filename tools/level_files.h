@@ -70,6 +70,7 @@ struct InputMesh {
 	                                               ///< VCG mesh (only with attributes)
 	std::vector<vcg::tri::io::Material> materials; ///< OBJ: VCG's materials (map_Kd local)
 	std::vector<int> faceMaterial;                 ///< OBJ: per VCG face as read
+	std::vector<std::string> readNotes;            ///< what the reader skipped (ReadInfo::notes)
 	bool hasColour() const
 	{
 		return attrs.vertColor || attrs.faceColor || attrs.vertTexCoord || attrs.wedgeTexCoord;

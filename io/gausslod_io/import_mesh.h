@@ -104,6 +104,9 @@ struct ReadInfo {
 	std::vector<vcg::tri::io::Material> materials;
 	std::vector<int> faceMaterial;
 	bool fastPly = false; ///< read by the binary PLY fast path (see the top of this file)
+	/// What the reader skipped or could not apply, a clause each ("1 face record with fewer
+	/// than 3 vertices skipped"): the file is read all the same
+	std::vector<std::string> notes;
 };
 
 inline const char *readStatusName(ReadStatus s)
@@ -540,13 +543,17 @@ struct ObjScan {
 	std::vector<unsigned char> faux; // per triangle: bit k set if edge k is inside a polygon
 	long long vertices = 0;
 	bool vertexColours = false; // a vertex line with colours ('v x y z r g b')
+	long long shortFaces = 0;   // face records with fewer than 3 vertices (VCG skips them)
+	std::vector<std::string> usedMaterials, definedMaterials; // (usemtl names; newmtl names of the
+	                                                          // material files VCG opens)
 };
 
 /// A material file VCG will open (relative to the working directory, the OBJ's folder while it is
 /// read): it must be a regular file, and its '\' continuations must be ones VCG joins in bounds.
 inline bool checkContinuations(LineReader &in, const char *where, ReadError &e);
 
-inline bool checkMaterialFile(const std::string &name, ReadError &e)
+inline bool checkMaterialFile(const std::string &name, ReadError &e,
+                              std::vector<std::string> *defined = nullptr)
 {
 	struct stat st;
 	if (::stat(name.c_str(), &st) != 0)
@@ -558,9 +565,22 @@ inline bool checkMaterialFile(const std::string &name, ReadError &e)
 	if (!f.f)
 		return true;
 	LineReader in(f.f);
-	while (in.next())
+	while (in.next()) {
 		if (!checkContinuations(in, "the material file", e))
 			return false;
+		const char *b = in.data(), *end = in.data() + in.size();
+		while (b < end && (*b == ' ' || *b == '\t'))
+			++b;
+		if (defined && end - b > 7 && std::strncmp(b, "newmtl", 6) == 0 &&
+		    (b[6] == ' ' || b[6] == '\t')) {
+			b += 7;
+			while (b < end && (*b == ' ' || *b == '\t'))
+				++b;
+			while (end > b && (end[-1] == '\r' || end[-1] == ' ' || end[-1] == '\t'))
+				--end;
+			defined->emplace_back(b, end);
+		}
+	}
 	return true;
 }
 
@@ -697,8 +717,10 @@ inline bool scanObj(FILE *f, const std::string &path, uint64_t size, double vert
 			++statements;
 			const bool q = is("q");
 			const long long n = (long long)w.size() - 1;
-			if (n < 3 || (q && n != 4))
+			if (n < 3 || (q && n != 4)) {
+				out.shortFaces += !q;
 				continue; // VCG skips it (q: fails with its own error)
+			}
 			poly.clear();
 			for (long long j = 1; j <= n; ++j) {
 				const char *s1 = std::find(w[j].b, w[j].e, '/');
@@ -750,13 +772,16 @@ inline bool scanObj(FILE *f, const std::string &path, uint64_t size, double vert
 		} else if (is("mtllib") && w.size() > 1) {
 			const std::string name = w.size() == 2 ? std::string(w[1].b, w[1].e)
 			                                       : std::string(start + std::min<size_t>(7, len), end);
-			if (!checkMaterialFile(name, e))
+			if (!checkMaterialFile(name, e, &out.definedMaterials))
 				return false;
 		} else if (is("usemtl")) {
 			usemtl = true;
+			if (w.size() > 1)
+				out.usedMaterials.emplace_back(w[1].b, w[w.size() - 1].e);
 		}
 	}
-	if (usemtl && path.size() >= 4 && !checkMaterialFile(path.substr(0, path.size() - 4) + ".mtl", e))
+	if (usemtl && path.size() >= 4 &&
+	    !checkMaterialFile(path.substr(0, path.size() - 4) + ".mtl", e, &out.definedMaterials))
 		return false;
 	if (out.vertices != mask.v)
 		return corrupt(e, num(mask.v) + " lines start with 'v ' but " + num(out.vertices) +
@@ -1713,6 +1738,27 @@ bool readChecked(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info)
 				return corrupt(e, "face " + num((long long)i) + " points outside the vertex array");
 		}
 	settleVertexTexCoords(m, c.format, mask);
+	if (info && c.format == Format::Obj) {
+		const ObjScan &scan = c.obj;
+		if (scan.shortFaces)
+			info->notes.push_back(num(scan.shortFaces) + " face record" +
+			                      (scan.shortFaces == 1 ? "" : "s") +
+			                      " with fewer than 3 vertices skipped");
+		std::vector<std::string> missing;
+		for (const std::string &u : scan.usedMaterials)
+			if (std::find(scan.definedMaterials.begin(), scan.definedMaterials.end(), u) ==
+			        scan.definedMaterials.end() &&
+			    std::find(missing.begin(), missing.end(), u) == missing.end())
+				missing.push_back(u);
+		for (size_t i = 0; i < missing.size() && i < 3; ++i)
+			info->notes.push_back("material " + quote(missing[i].data(),
+			                                          missing[i].data() + missing[i].size()) +
+			                      " is used but no material file defines it (its faces take the "
+			                      "default material)");
+		if (missing.size() > 3)
+			info->notes.push_back(num((long long)missing.size() - 3) +
+			                      " more undefined materials");
+	}
 	if (info) {
 		info->fastPly = fastPly;
 		info->fileMask = c.facts.mask;

@@ -116,6 +116,16 @@ w=$(ply_faces "$work/wuson/Wuson_LOD0.ply") nw=$(ply_faces "$work/wuson_nw/Wuson
 grep -q '"welded_vertices":[1-9]' "$work/wuson.txt" && pass "--json says how many vertices were welded" ||
   fail "--json: no welded_vertices: $(head -c 600 "$work/wuson.txt")"
 expect check_welded 0 "Wuson.stl: ok: 3732 faces, 11196 vertices; 9079 vertices welded" --check "$stl"
+# assimp's malformed2.obj: an 'f' record with no index and a material no file defines are read
+# past, and said; a defined material is not named (cube_usemtl.obj: mtl, mtl2 defined, mtl3 not)
+bad=${GAUSSLOD_ASSIMP_MODELS:-/usr/share/assimp/models}/invalid/malformed2.obj
+expect check_malformed2 0 "ok: 10 faces, 8 vertices; 1 face record with fewer than 3 vertices skipped; material 'DefaultDoesNotExist' is used but no material file defines it" --check "$bad"
+expect run_malformed2 0 "input repairs: 1 face record with fewer than 3 vertices skipped" --format ply "$bad" "$work/malformed2"
+usemtl=${GAUSSLOD_ASSIMP_MODELS:-/usr/share/assimp/models}/OBJ/cube_usemtl.obj
+"$tool" --check "$usemtl" >"$work/usemtl.txt" 2>&1
+grep -q "material 'mtl3' is used but no material file defines it" "$work/usemtl.txt" &&
+  ! grep -q "'mtl2'" "$work/usemtl.txt" && pass "cube_usemtl.obj: only the undefined material named" ||
+  fail "cube_usemtl.obj: $(cat "$work/usemtl.txt")"
 
 # The options carry the filter's parameter names (--max-level = maxLevel); the earlier spellings
 # still work and give the same files.
