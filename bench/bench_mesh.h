@@ -3,9 +3,9 @@
 
 #include "gausslod_io/io_mesh.h"
 
+#include "gausslod_io/import_mesh.h"
 #include <vcg/complex/complex.h>
 #include <wrap/io_trimesh/export_ply.h>
-#include "gausslod_io/import_mesh.h"
 
 #include <chrono>
 #include <cstdint>
@@ -21,7 +21,8 @@ using FMesh = gausslod::IoMesh;
 
 inline double now()
 {
-	return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+	return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+	    .count();
 }
 
 template <class MeshT>

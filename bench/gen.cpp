@@ -2,8 +2,8 @@
 //   bench_gen cube N OUT [NOISE]     unit cube, each side an N x N grid (shared edge vertices);
 //                                    NOISE > 0: every coordinate moved by uniform [-NOISE, NOISE]
 //   bench_gen sphere SEG RINGS OUT   UV sphere, radius 1 (SEG around, RINGS from pole to pole)
-//   bench_gen bumpy SEG RINGS OUT    UV sphere with smooth bumps: r = 1 + 0.08 sin(6t) cos(5p) + ...
-//   bench_gen convert IN OUT         any format VCG reads (OFF, OBJ, STL, PLY) -> binary PLY
+//   bench_gen bumpy SEG RINGS OUT    UV sphere with smooth bumps: r = 1 + 0.08 sin(6t) cos(5p) +
+//   ... bench_gen convert IN OUT         any format VCG reads (OFF, OBJ, STL, PLY) -> binary PLY
 //   bench_gen subdivide K IN OUT     IN's triangles each split K times into 4 at their edge
 //                                    midpoints (flat: the same surface, 4^K times the faces)
 // All meshes are closed, 2-manifold and outward oriented. Deterministic (fixed seed).
@@ -57,7 +57,8 @@ int cube(int n, const std::string &out, double noise)
 			};
 			for (int i = 0; i < n; ++i)
 				for (int j = 0; j < n; ++j) {
-					const uint32_t a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
+					const uint32_t a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1),
+					               d = at(i, j + 1);
 					tri.insert(tri.end(), {a, b, c, a, c, d});
 				}
 		}
@@ -98,7 +99,8 @@ int sphere(int seg, int rings, const std::string &out, bool bumpy)
 		tri.insert(tri.end(), {0u, ring(1, s), ring(1, s + 1)});
 	for (int r = 1; r + 1 < rings; ++r)
 		for (int s = 0; s < seg; ++s) {
-			const uint32_t a = ring(r, s), b = ring(r + 1, s), c = ring(r + 1, s + 1), d = ring(r, s + 1);
+			const uint32_t a = ring(r, s), b = ring(r + 1, s), c = ring(r + 1, s + 1),
+			               d = ring(r, s + 1);
 			tri.insert(tri.end(), {a, b, c, a, c, d});
 		}
 	for (int s = 0; s < seg; ++s)

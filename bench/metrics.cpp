@@ -50,7 +50,8 @@ namespace {
 
 class MVertex;
 class MFace;
-struct MUsedTypes : public vcg::UsedTypes<vcg::Use<MVertex>::AsVertexType, vcg::Use<MFace>::AsFaceType> {};
+struct MUsedTypes
+    : public vcg::UsedTypes<vcg::Use<MVertex>::AsVertexType, vcg::Use<MFace>::AsFaceType> {};
 class MVertex : public vcg::Vertex<MUsedTypes, vcg::vertex::Coord3d, vcg::vertex::Normal3d,
                                    vcg::vertex::BitFlags, vcg::vertex::Mark> {};
 class MFace : public vcg::Face<MUsedTypes, vcg::face::VertexRef, vcg::face::Normal3d,
@@ -93,8 +94,8 @@ double angleDeg(const Coord &a, const Coord &b)
 /// smallest angle among them is taken (found through vertex-face adjacency).
 struct Closest {
 	MMesh *m = nullptr;
-	std::vector<Tri3> tris;        // the non-degenerate faces of m
-	std::vector<uint32_t> faceOf;  // their face index in m
+	std::vector<Tri3> tris;       // the non-degenerate faces of m
+	std::vector<uint32_t> faceOf; // their face index in m
 	Tree tree;
 	std::vector<uint32_t> vfStart, vfFaces; // faces around each vertex (CSR)
 
@@ -112,7 +113,8 @@ struct Closest {
 		}
 		tree.insert(tris.cbegin(), tris.cend());
 		tree.build();
-		tree.accelerate_distance_queries(); // kd-tree of the vertices: a close first guess per query
+		tree.accelerate_distance_queries(); // kd-tree of the vertices: a close first guess per
+		                                    // query
 		buildAdjacency();
 	}
 
@@ -137,7 +139,8 @@ struct Closest {
 		for (uint32_t j = vfStart[v]; j < vfStart[v + 1]; ++j) {
 			const MFace &g = m->face[vfFaces[j]];
 			if (other >= 0 && vcg::tri::Index(*m, g.cV(0)) != size_t(other) &&
-			    vcg::tri::Index(*m, g.cV(1)) != size_t(other) && vcg::tri::Index(*m, g.cV(2)) != size_t(other))
+			    vcg::tri::Index(*m, g.cV(1)) != size_t(other) &&
+			    vcg::tri::Index(*m, g.cV(2)) != size_t(other))
 				continue;
 			angle = std::min(angle, angleDeg(n, g.cN()));
 		}
@@ -201,7 +204,8 @@ Direction measure(MMesh &from, Closest &to, int nSamples, std::vector<double> &a
 	vcg::tri::SurfaceSampling<MMesh, Collector>::SamplingRandomGenerator().initialize(4711);
 	vcg::tri::SurfaceSampling<MMesh, Collector>::Montecarlo(from, col, nSamples);
 	// Mesh order (faces are stored with spatial coherence): consecutive queries are close.
-	std::stable_sort(samples.begin(), samples.end(), [](const Sample &x, const Sample &y) { return x.face < y.face; });
+	std::stable_sort(samples.begin(), samples.end(),
+	                 [](const Sample &x, const Sample &y) { return x.face < y.face; });
 	const size_t areaSamples = samples.size();
 	// Vertices: all of them, or a fixed random subset of nSamples / 4 (kept in mesh order).
 	std::vector<const MVertex *> verts;
@@ -329,7 +333,9 @@ int main(int argc, char **argv)
 	const Direction ab = measure(a, toB, nSamples, angles);
 	const Direction ba = measure(b, toA, nSamples, angles);
 	std::sort(angles.begin(), angles.end());
-	const double p95 = angles.empty() ? 0 : angles[std::min(angles.size() - 1, size_t(0.95 * double(angles.size())))];
+	const double p95 =
+	    angles.empty() ? 0
+	                   : angles[std::min(angles.size() - 1, size_t(0.95 * double(angles.size())))];
 	const double amax = angles.empty() ? 0 : angles.back();
 
 	size_t flipped = 0, degenerate = 0, slivers = 0;
@@ -358,10 +364,11 @@ int main(int argc, char **argv)
 	            "\"input_boundary_edges\":%zu,\"flipped\":%zu,\"degenerate\":%zu,"
 	            "\"hausdorff_ab_at\":[%.9g,%.9g,%.9g],\"hausdorff_ba_at\":[%.9g,%.9g,%.9g],"
 	            "\"samples\":%zu,\"diag\":%.6g,\"seconds\":%.3f}\n",
-	            b.fn, b.vn, pct(std::max(ab.maxDist, ba.maxDist)), pct(std::max(ab.meanDist, ba.meanDist)),
-	            pct(ab.maxDist), pct(ba.maxDist), pct(ab.meanDist), pct(ba.meanDist), p95, amax,
-	            100.0 * double(slivers) / double(b.fn), eb.nonManifold, eb.boundary, ea.boundary, flipped,
-	            degenerate, ab.where[0], ab.where[1], ab.where[2], ba.where[0], ba.where[1], ba.where[2],
-	            ab.samples + ba.samples, diag, bench::now() - t0);
+	            b.fn, b.vn, pct(std::max(ab.maxDist, ba.maxDist)),
+	            pct(std::max(ab.meanDist, ba.meanDist)), pct(ab.maxDist), pct(ba.maxDist),
+	            pct(ab.meanDist), pct(ba.meanDist), p95, amax,
+	            100.0 * double(slivers) / double(b.fn), eb.nonManifold, eb.boundary, ea.boundary,
+	            flipped, degenerate, ab.where[0], ab.where[1], ab.where[2], ba.where[0],
+	            ba.where[1], ba.where[2], ab.samples + ba.samples, diag, bench::now() - t0);
 	return 0;
 }

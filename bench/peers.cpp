@@ -7,7 +7,8 @@
 // meshopt: meshoptimizer's meshopt_simplify (edge collapse with quadric error; version from
 //          MESHOPTIMIZER_VERSION), options 0, target error unbounded so only the count stops it.
 // cgal_gh: CGAL Surface_mesh_simplification::edge_collapse with GarlandHeckbert_plane_policies
-//          (classic Garland-Heckbert plane quadrics, cost and placement), stopped at the face count.
+//          (classic Garland-Heckbert plane quadrics, cost and placement), stopped at the face
+//          count.
 // cgal_gh_input_positions: the same collapses, then every vertex left back at the input position
 //          of the input vertex it is (a diagnostic, not a peer: what GH's choice of vertices and
 //          connectivity gives without its placement; DESIGN 30).
@@ -51,18 +52,20 @@ int runMeshopt(const bench::Flat &in, size_t target, const std::string &out)
 	std::vector<uint32_t> dst(in.tri.size());
 	float resultError = 0;
 	const double t0 = bench::now();
-	const size_t n = meshopt_simplify(dst.data(), in.tri.data(), in.tri.size(), in.pos.data(), in.vn(),
-	                                  3 * sizeof(float), target * 3, 1e6f, 0, &resultError);
+	const size_t n =
+	    meshopt_simplify(dst.data(), in.tri.data(), in.tri.size(), in.pos.data(), in.vn(),
+	                     3 * sizeof(float), target * 3, 1e6f, 0, &resultError);
 	const double secs = bench::now() - t0;
 	dst.resize(n);
 	if (!bench::writePly(out, in.pos, dst)) {
 		std::fprintf(stderr, "bench_peers: cannot write %s\n", out.c_str());
 		return 1;
 	}
-	std::printf("{\"method\":\"meshopt\",\"version\":%d,\"target\":%zu,\"faces\":%zu,\"seconds\":%.6f,"
-	            "\"result_error\":%.6g,\"file\":%s}\n",
-	            MESHOPTIMIZER_VERSION, target, n / 3, secs, double(resultError),
-	            bench::jsonStr(out).c_str());
+	std::printf(
+	    "{\"method\":\"meshopt\",\"version\":%d,\"target\":%zu,\"faces\":%zu,\"seconds\":%.6f,"
+	    "\"result_error\":%.6g,\"file\":%s}\n",
+	    MESHOPTIMIZER_VERSION, target, n / 3, secs, double(resultError),
+	    bench::jsonStr(out).c_str());
 	return 0;
 }
 
@@ -75,7 +78,8 @@ int runCgal(const bench::Flat &in, size_t target, const std::string &out, bool i
 		vid[i] = sm.add_vertex(K::Point_3(in.pos[3 * i], in.pos[3 * i + 1], in.pos[3 * i + 2]));
 	size_t skipped = 0;
 	for (size_t f = 0; f < in.fn(); ++f) {
-		const SM::Face_index fi = sm.add_face(vid[in.tri[3 * f]], vid[in.tri[3 * f + 1]], vid[in.tri[3 * f + 2]]);
+		const SM::Face_index fi =
+		    sm.add_face(vid[in.tri[3 * f]], vid[in.tri[3 * f + 1]], vid[in.tri[3 * f + 2]]);
 		if (fi == SM::null_face())
 			++skipped; // would make the Surface_mesh non-manifold: CGAL cannot take it
 	}
@@ -105,11 +109,11 @@ int runCgal(const bench::Flat &in, size_t target, const std::string &out, bool i
 		std::fprintf(stderr, "bench_peers: cannot write %s\n", out.c_str());
 		return 1;
 	}
-	std::printf("{\"method\":\"%s\",\"version\":%d,\"target\":%zu,\"faces\":%zu,\"seconds\":%.6f,"
-	            "\"collapse_seconds\":%.6f,\"removed_edges\":%d,\"skipped_input_faces\":%zu,\"file\":%s}\n",
-	            inputPositions ? "cgal_gh_input_positions" : "cgal_gh", CGAL_VERSION_NR / 1000, target,
-	            tri.size() / 3, t2 - t0, t2 - t1, removed, skipped,
-	            bench::jsonStr(out).c_str());
+	std::printf(
+	    "{\"method\":\"%s\",\"version\":%d,\"target\":%zu,\"faces\":%zu,\"seconds\":%.6f,"
+	    "\"collapse_seconds\":%.6f,\"removed_edges\":%d,\"skipped_input_faces\":%zu,\"file\":%s}\n",
+	    inputPositions ? "cgal_gh_input_positions" : "cgal_gh", CGAL_VERSION_NR / 1000, target,
+	    tri.size() / 3, t2 - t0, t2 - t1, removed, skipped, bench::jsonStr(out).c_str());
 	return 0;
 }
 
@@ -118,9 +122,10 @@ int runCgal(const bench::Flat &in, size_t target, const std::string &out, bool i
 int main(int argc, char **argv)
 {
 	if (argc != 5) {
-		std::fprintf(stderr, "usage: bench_peers meshopt|cgal_gh|cgal_gh_input_positions|openmesh_quadric "
-		                     "IN TARGET_FACES OUT.ply\n"
-		                     "       bench_peers openmesh_nd IN ANGLE_DEG OUT.ply\n");
+		std::fprintf(stderr,
+		             "usage: bench_peers meshopt|cgal_gh|cgal_gh_input_positions|openmesh_quadric "
+		             "IN TARGET_FACES OUT.ply\n"
+		             "       bench_peers openmesh_nd IN ANGLE_DEG OUT.ply\n");
 		return 2;
 	}
 	const std::string method = argv[1], in = argv[2], out = argv[4];

@@ -90,7 +90,8 @@ int main(int argc, char **argv)
 			break;
 	}
 	if (argc - a != 2 || nSamples <= 0 || !(texels > 0)) {
-		std::fprintf(stderr, "usage: bench_texdev [--samples N] [--texels T] ORIGINAL SIMPLIFIED\n");
+		std::fprintf(stderr,
+		             "usage: bench_texdev [--samples N] [--texels T] ORIGINAL SIMPLIFIED\n");
 		return 2;
 	}
 	Textured orig, simp;
@@ -108,7 +109,8 @@ int main(int argc, char **argv)
 	std::vector<double> shift;
 	shift.reserve(size_t(nSamples));
 	for (int s = 0; s < nSamples && total > 0; ++s) {
-		const size_t f = size_t(std::lower_bound(cum.begin(), cum.end(), u01(rng) * total) - cum.begin());
+		const size_t f =
+		    size_t(std::lower_bound(cum.begin(), cum.end(), u01(rng) * total) - cum.begin());
 		if (f >= simp.tri.size())
 			continue;
 		double r1 = u01(rng), r2 = u01(rng);
@@ -137,13 +139,16 @@ int main(int argc, char **argv)
 		return 1;
 	}
 	std::sort(shift.begin(), shift.end());
-	auto q = [&](double x) { return shift[std::min(shift.size() - 1, size_t(x * double(shift.size())))]; };
+	auto q = [&](double x) {
+		return shift[std::min(shift.size() - 1, size_t(x * double(shift.size())))];
+	};
 	size_t over = 0;
 	for (double x : shift)
 		over += x > 2;
-	std::printf("{\"samples\": %zu, \"faces\": %zu, \"shift_median_texels\": %.4g, "
-	            "\"shift_p90_texels\": %.4g, \"shift_p95_texels\": %.4g, \"over_2_texels_pct\": %.4g}\n",
-	            shift.size(), simp.tri.size(), q(0.5), q(0.9), q(0.95),
-	            100.0 * double(over) / double(shift.size()));
+	std::printf(
+	    "{\"samples\": %zu, \"faces\": %zu, \"shift_median_texels\": %.4g, "
+	    "\"shift_p90_texels\": %.4g, \"shift_p95_texels\": %.4g, \"over_2_texels_pct\": %.4g}\n",
+	    shift.size(), simp.tri.size(), q(0.5), q(0.9), q(0.95),
+	    100.0 * double(over) / double(shift.size()));
 	return 0;
 }

@@ -22,7 +22,7 @@ need_root() {
 pkgs=(meshlab qtbase5-dev libqt5opengl5-dev libqt5xmlpatterns5-dev libglew-dev libglu1-mesa-dev
       libeigen3-dev cmake g++ make xvfb xauth libgtest-dev libcgal-dev libgmp-dev libmpfr-dev
       dpkg-dev xdotool imagemagick x11-utils clang libclang-rt-14-dev
-      assimp-testmodels parallel valgrind libtinygltf-dev chromium)
+      assimp-testmodels parallel valgrind libtinygltf-dev chromium clang-format)
 # Node.js and npm (the web viewer's packages and its browser test): Debian's only where the machine
 # has none of its own (Debian's npm conflicts with a Node.js installed otherwise)
 command -v node >/dev/null && command -v npm >/dev/null || pkgs+=(nodejs npm)

@@ -93,10 +93,7 @@ void levelTextures(const MeshModel &input, CMeshO &level, bool gui)
 	}
 }
 
-QString thousands(size_t n)
-{
-	return QLocale(QLocale::English).toString(qulonglong(n));
-}
+QString thousands(size_t n) { return QLocale(QLocale::English).toString(qulonglong(n)); }
 
 /// A RichAbsPerc value as a fraction of `diag`, the diagonal of the mesh the filter runs on. Its
 /// percentage, (value-min)/(max-min), is what the dialog shows and what a saved script carries.
@@ -128,9 +125,9 @@ std::string levelsByText(const RichParameterList &par)
 	const std::string list =
 	    par.hasParameter(kLevelTargets) ? par.getString(kLevelTargets).toStdString() : "";
 	switch (par.getEnum("levelsBy")) {
-	case 1: return "faces:" + list;
-	case 2: return "error:" + list;
-	default: return "angle";
+		case 1: return "faces:" + list;
+		case 2: return "error:" + list;
+		default: return "angle";
 	}
 }
 
@@ -144,14 +141,14 @@ bool readRequest(const RichParameterList &par, double diag, FilterRequest &req, 
 		if (!s.inFilter)
 			continue;
 		switch (s.kind) {
-		case ParamKind::Integer: gausslod::setParam(p, s, par.getInt(s.name)); break;
-		case ParamKind::Real: gausslod::setParam(p, s, par.getFloat(s.name)); break;
-		case ParamKind::Flag: gausslod::setParam(p, s, par.getBool(s.name)); break;
-		case ParamKind::DiagonalFraction:
-			gausslod::setParam(p, s, fractionFromAbsPerc(par, s.name, diag));
-			break;
-		case ParamKind::LevelList: outputLevels = par.getString(s.name).toStdString(); break;
-		case ParamKind::LevelTargets: levelsBy = levelsByText(par); break;
+			case ParamKind::Integer: gausslod::setParam(p, s, par.getInt(s.name)); break;
+			case ParamKind::Real: gausslod::setParam(p, s, par.getFloat(s.name)); break;
+			case ParamKind::Flag: gausslod::setParam(p, s, par.getBool(s.name)); break;
+			case ParamKind::DiagonalFraction:
+				gausslod::setParam(p, s, fractionFromAbsPerc(par, s.name, diag));
+				break;
+			case ParamKind::LevelList: outputLevels = par.getString(s.name).toStdString(); break;
+			case ParamKind::LevelTargets: levelsBy = levelsByText(par); break;
 		}
 	}
 	// levels by target: one level per target ('Number of levels' is then the number of targets)
@@ -243,10 +240,11 @@ QString levelLogLine(const gausslod::LevelStats &s, double diag)
 		            .arg(s.level + 1)
 		            .arg(thousands(s.collapses));
 	else if (s.collapses > 0)
-		line += QString("; made from LOD%1 by %2 edge collapses (the superface level's face count "
-		                "within its distance bound; max normal deviation: a bound, mean: an estimate)")
-		            .arg(s.level + 1)
-		            .arg(thousands(s.collapses));
+		line +=
+		    QString("; made from LOD%1 by %2 edge collapses (the superface level's face count "
+		            "within its distance bound; max normal deviation: a bound, mean: an estimate)")
+		        .arg(s.level + 1)
+		        .arg(thousands(s.collapses));
 	if (s.reusedFiner)
 		line += QString("; same mesh as LOD%1 (merging gave more faces, or under 1 % fewer at a "
 		                "larger distance)")
@@ -257,13 +255,11 @@ QString levelLogLine(const gausslod::LevelStats &s, double diag)
 		                     ? QString("%1 % of the diagonal")
 		                           .arg(QString::number(100.0 * s.targetDistance, 'g', 6))
 		                     : QString("%1 faces").arg(thousands(s.targetFaces)))
-		            .arg(s.targetReached          ? "reached"
-		                 : s.targetDistance >= 0 ? "NOT reached (measured above it)"
-		                                         : "NOT reached (" + thousands(s.faces) +
-		                                               " faces: " +
-		                                               QString::fromStdString(
-		                                                   gausslod::budgetNote(s)) +
-		                                               ")")
+		            .arg(s.targetReached ? "reached"
+		                 : s.targetDistance >= 0
+		                     ? "NOT reached (measured above it)"
+		                     : "NOT reached (" + thousands(s.faces) + " faces: " +
+		                           QString::fromStdString(gausslod::budgetNote(s)) + ")")
 		            .arg(QString::number(100.0 * s.tolerance, 'g', 4))
 		            .arg(s.trials)
 		            .arg(s.trials == 1 ? "" : "s");
@@ -277,31 +273,40 @@ std::unique_ptr<RichParameter> richParameter(const gausslod::ParamSpec &s, float
 	using gausslod::ParamKind;
 	const QString name = s.name, label = s.label, tip = s.description;
 	switch (s.kind) {
-	case ParamKind::Integer:
-		return std::unique_ptr<RichParameter>(new RichInt(name, int(s.defaultValue), label, tip));
-	case ParamKind::Real:
-		return std::unique_ptr<RichParameter>(
-		    new RichFloat(name, float(s.defaultValue), label, tip));
-	case ParamKind::Flag:
-		return std::unique_ptr<RichParameter>(new RichBool(name, s.defaultValue != 0, label, tip));
-	case ParamKind::DiagonalFraction:
-		return std::unique_ptr<RichParameter>(
-		    new RichAbsPerc(name, diag * float(s.defaultValue), 0.0f, diag, label, tip));
-	case ParamKind::LevelTargets: // (a drop-down here; the list is kLevelTargets)
-		return std::unique_ptr<RichParameter>(new RichEnum(
-		    name, 0,
-		    QStringList() << "The paper's angle levels" << "Face budgets" << "Error targets",
-		    label,
-		    "What sets the levels. The paper's angle levels: 'Number of levels' of them, level i "
-		    "merging faces whose normals lie in one of 3^i x 3^i Gauss-sphere cells per cube "
-		    "face, each continued to a real step where its cells leave it too heavy ('Keep every "
-		    "level a real step'). Face budgets: one level per budget of 'Targets' (percentages of "
-		    "the input's faces, or counts), each with as many faces as fit; every budget is "
-		    "reached, by edge collapses where merging cannot get there (only what the kept "
-		    "materials and seams need can stop it: the log says so). Error targets: one level per "
-		    "distance of 'Targets' (% of the bounding-box diagonal), each with the fewest faces "
-		    "found whose proven distance to the input is within it."));
-	case ParamKind::LevelList: break;
+		case ParamKind::Integer:
+			return std::unique_ptr<RichParameter>(
+			    new RichInt(name, int(s.defaultValue), label, tip));
+		case ParamKind::Real:
+			return std::unique_ptr<RichParameter>(
+			    new RichFloat(name, float(s.defaultValue), label, tip));
+		case ParamKind::Flag:
+			return std::unique_ptr<RichParameter>(
+			    new RichBool(name, s.defaultValue != 0, label, tip));
+		case ParamKind::DiagonalFraction:
+			return std::unique_ptr<RichParameter>(
+			    new RichAbsPerc(name, diag * float(s.defaultValue), 0.0f, diag, label, tip));
+		case ParamKind::LevelTargets: // (a drop-down here; the list is kLevelTargets)
+			return std::unique_ptr<RichParameter>(new RichEnum(
+			    name, 0,
+			    QStringList() << "The paper's angle levels"
+			                  << "Face budgets"
+			                  << "Error targets",
+			    label,
+			    "What sets the levels. The paper's angle levels: 'Number of levels' of them, level "
+			    "i "
+			    "merging faces whose normals lie in one of 3^i x 3^i Gauss-sphere cells per cube "
+			    "face, each continued to a real step where its cells leave it too heavy ('Keep "
+			    "every "
+			    "level a real step'). Face budgets: one level per budget of 'Targets' (percentages "
+			    "of "
+			    "the input's faces, or counts), each with as many faces as fit; every budget is "
+			    "reached, by edge collapses where merging cannot get there (only what the kept "
+			    "materials and seams need can stop it: the log says so). Error targets: one level "
+			    "per "
+			    "distance of 'Targets' (% of the bounding-box diagonal), each with the fewest "
+			    "faces "
+			    "found whose proven distance to the input is within it."));
+		case ParamKind::LevelList: break;
 	}
 	return std::unique_ptr<RichParameter>(new RichString(name, "all", label, tip));
 }
@@ -315,46 +320,44 @@ FilterGaussLodPlugin::FilterGaussLodPlugin()
 		actionList << new QAction(filterName(id), this);
 }
 
-QString FilterGaussLodPlugin::pluginName() const
-{
-	return "FilterGaussLod";
-}
+QString FilterGaussLodPlugin::pluginName() const { return "FilterGaussLod"; }
 
 QString FilterGaussLodPlugin::filterName(FilterIDType filter) const
 {
 	switch (filter) {
-	case FP_GAUSS_SPHERE_LOD:
-		return kFilterName;
-	default:
-		assert(0);
-		return QString();
+		case FP_GAUSS_SPHERE_LOD: return kFilterName;
+		default: assert(0); return QString();
 	}
 }
 
 QString FilterGaussLodPlugin::filterInfo(FilterIDType filter) const
 {
 	switch (filter) {
-	case FP_GAUSS_SPHERE_LOD:
-		return "Builds levels of detail by merging near-coplanar faces: every face normal is "
-		       "placed in a cell of a hierarchical Gauss sphere (a cube map split into "
-		       "3<sup>i</sup> x 3<sup>i</sup> cells per face at level i), and connected faces of "
-		       "one cell form a <i>superface</i> whose normals differ by at most the cell's bound "
-		       "(sqrt(2)&middot;90&deg;/3<sup>i</sup>). "
-		       "Borders are straightened, close border vertices merged, each superface "
-		       "re-triangulated (constrained Delaunay); coarser levels merge superfaces of sibling "
-		       "cells, so the face count never grows. Beyond the paper: superfaces of neighbouring "
-		       "cells merge within the level's bound (on by default), and an optional distance "
-		       "tolerance bounds how far a level moves the surface; 'Levels by' asks for levels by "
-		       "face budget or by distance tolerance instead of by angle. Each level becomes a new layer "
-		       "(the input is left untouched); the log gives per level the faces, superfaces, "
-		       "fallbacks and measured deviation.<br><br>"
-		       "See: <br><i>Cao Weiqun, Bao Hujun, Peng Qunsheng</i><br>"
-		       "<b>\"An Algorithm for LOD by Merging Near Coplanar Faces Based on Gauss "
-		       "Sphere\"</b><br>"
-		       "Journal of Computer Science and Technology 16(5), 2001, pp. 450-457.";
-	default:
-		assert(0);
-		return QString();
+		case FP_GAUSS_SPHERE_LOD:
+			return "Builds levels of detail by merging near-coplanar faces: every face normal is "
+			       "placed in a cell of a hierarchical Gauss sphere (a cube map split into "
+			       "3<sup>i</sup> x 3<sup>i</sup> cells per face at level i), and connected faces "
+			       "of "
+			       "one cell form a <i>superface</i> whose normals differ by at most the cell's "
+			       "bound "
+			       "(sqrt(2)&middot;90&deg;/3<sup>i</sup>). "
+			       "Borders are straightened, close border vertices merged, each superface "
+			       "re-triangulated (constrained Delaunay); coarser levels merge superfaces of "
+			       "sibling "
+			       "cells, so the face count never grows. Beyond the paper: superfaces of "
+			       "neighbouring "
+			       "cells merge within the level's bound (on by default), and an optional distance "
+			       "tolerance bounds how far a level moves the surface; 'Levels by' asks for "
+			       "levels by "
+			       "face budget or by distance tolerance instead of by angle. Each level becomes a "
+			       "new layer "
+			       "(the input is left untouched); the log gives per level the faces, superfaces, "
+			       "fallbacks and measured deviation.<br><br>"
+			       "See: <br><i>Cao Weiqun, Bao Hujun, Peng Qunsheng</i><br>"
+			       "<b>\"An Algorithm for LOD by Merging Near Coplanar Faces Based on Gauss "
+			       "Sphere\"</b><br>"
+			       "Journal of Computer Science and Technology 16(5), 2001, pp. 450-457.";
+		default: assert(0); return QString();
 	}
 }
 
@@ -368,10 +371,7 @@ MeshFilterInterface::FILTER_ARITY FilterGaussLodPlugin::filterArity(QAction *) c
 	return SINGLE_MESH;
 }
 
-int FilterGaussLodPlugin::getPreConditions(QAction *) const
-{
-	return MeshModel::MM_FACENUMBER;
-}
+int FilterGaussLodPlugin::getPreConditions(QAction *) const { return MeshModel::MM_FACENUMBER; }
 
 int FilterGaussLodPlugin::postCondition(QAction *) const
 {
@@ -381,42 +381,47 @@ int FilterGaussLodPlugin::postCondition(QAction *) const
 void FilterGaussLodPlugin::initParameterSet(QAction *a, MeshModel &m, RichParameterList &par)
 {
 	switch (ID(a)) {
-	case FP_GAUSS_SPHERE_LOD: {
-		const float diag = m.cm.bbox.IsNull() ? 1.0f : m.cm.bbox.Diag();
-		for (const gausslod::ParamSpec &s : gausslod::paramSpecs()) {
-			if (s.inFilter)
-				par.addParam(*richParameter(s, diag));
-			if (s.kind == gausslod::ParamKind::LevelTargets)
-				par.addParam(RichString(
-				    kLevelTargets, "50%,25%,10%,5%,2%", "Targets",
-				    "With 'Levels by' face budgets or error targets: a comma list, one level per "
-				    "target, in any order (the finest level gets the most faces or the smallest "
-				    "error; up to 8; 'Number of levels' is then their number). Face budgets: "
-				    "percentages of the input's faces (50%,25%,10%) or face counts (20000,5000). "
-				    "Error targets: distances as percentages of the bounding-box diagonal "
-				    "(0.01%,0.05%,0.2%). Not used by the paper's angle levels."));
+		case FP_GAUSS_SPHERE_LOD: {
+			const float diag = m.cm.bbox.IsNull() ? 1.0f : m.cm.bbox.Diag();
+			for (const gausslod::ParamSpec &s : gausslod::paramSpecs()) {
+				if (s.inFilter)
+					par.addParam(*richParameter(s, diag));
+				if (s.kind == gausslod::ParamKind::LevelTargets)
+					par.addParam(RichString(
+					    kLevelTargets, "50%,25%,10%,5%,2%", "Targets",
+					    "With 'Levels by' face budgets or error targets: a comma list, one level "
+					    "per "
+					    "target, in any order (the finest level gets the most faces or the "
+					    "smallest "
+					    "error; up to 8; 'Number of levels' is then their number). Face budgets: "
+					    "percentages of the input's faces (50%,25%,10%) or face counts "
+					    "(20000,5000). "
+					    "Error targets: distances as percentages of the bounding-box diagonal "
+					    "(0.01%,0.05%,0.2%). Not used by the paper's angle levels."));
+			}
+			par.addParam(
+			    RichBool("selectedOnly", false, "Only selected faces",
+			             "Simplify only the selected faces: unselected faces are kept exactly "
+			             "as they are, and the border between them and the selection is "
+			             "kept too (as in MeshLab's quadric edge collapse)."));
+			par.addParam(RichBool(
+			    "colourSuperfaces", true, "Colour faces by superface",
+			    "Give every superface of an output level its own per-face colour, when the input "
+			    "has "
+			    "no colour of its own (no face or vertex colours, no texture coordinates): real "
+			    "colours and textures are kept. See also 'Overwrite real colours'."));
+			par.addParam(
+			    RichBool("overwriteColours", false, "Overwrite real colours",
+			             "With 'Colour faces by superface': colour the superfaces even when "
+			             "the input has face or vertex colours or a texture (its face "
+			             "colours are then replaced in the levels; the input is unchanged)."));
+			par.addParam(RichBool("fauxEdges", true, "Mark superface interiors as faux edges",
+			                      "Mark edges inside a superface as faux, so that MeshLab's "
+			                      "polygonal wireframe draws "
+			                      "each superface as one polygon."));
+			break;
 		}
-		par.addParam(RichBool("selectedOnly", false, "Only selected faces",
-		                      "Simplify only the selected faces: unselected faces are kept exactly "
-		                      "as they are, and the border between them and the selection is "
-		                      "kept too (as in MeshLab's quadric edge collapse)."));
-		par.addParam(RichBool(
-		    "colourSuperfaces", true, "Colour faces by superface",
-		    "Give every superface of an output level its own per-face colour, when the input has "
-		    "no colour of its own (no face or vertex colours, no texture coordinates): real "
-		    "colours and textures are kept. See also 'Overwrite real colours'."));
-		par.addParam(RichBool("overwriteColours", false, "Overwrite real colours",
-		                      "With 'Colour faces by superface': colour the superfaces even when "
-		                      "the input has face or vertex colours or a texture (its face "
-		                      "colours are then replaced in the levels; the input is unchanged)."));
-		par.addParam(RichBool(
-		    "fauxEdges", true, "Mark superface interiors as faux edges",
-		    "Mark edges inside a superface as faux, so that MeshLab's polygonal wireframe draws "
-		    "each superface as one polygon."));
-		break;
-	}
-	default:
-		assert(0);
+		default: assert(0);
 	}
 }
 
@@ -424,16 +429,14 @@ bool FilterGaussLodPlugin::applyFilter(QAction *a, MeshDocument &md, const RichP
                                        vcg::CallBackPos *cb)
 {
 	switch (ID(a)) {
-	case FP_GAUSS_SPHERE_LOD: {
-		errorMessage.clear();
-		const bool ok = buildGaussSphereLods(md, par, cb);
-		if (!ok) // meshlabserver prints the log but not errorMessage
-			Log(GLLogStream::WARNING, ("GaussLOD failed: " + errorMessage).toStdString());
-		return ok;
-	}
-	default:
-		assert(0);
-		return false;
+		case FP_GAUSS_SPHERE_LOD: {
+			errorMessage.clear();
+			const bool ok = buildGaussSphereLods(md, par, cb);
+			if (!ok) // meshlabserver prints the log but not errorMessage
+				Log(GLLogStream::WARNING, ("GaussLOD failed: " + errorMessage).toStdString());
+			return ok;
+		}
+		default: assert(0); return false;
 	}
 }
 
@@ -471,8 +474,8 @@ bool FilterGaussLodPlugin::buildGaussSphereLods(MeshDocument &md, const RichPara
 	const gausslod::MeshView view = flat.view();
 	const double diag = gausslod::bboxDiagonal(view);
 	// real colours stay unless asked; superface colours need per-face colour on the layer
-	const bool hasColour = attrs.vertColor || attrs.faceColor || attrs.wedgeTexCoord ||
-	                       attrs.vertTexCoord;
+	const bool hasColour =
+	    attrs.vertColor || attrs.faceColor || attrs.wedgeTexCoord || attrs.vertTexCoord;
 	const bool superfaceColours = req.colourSuperfaces && (!hasColour || req.overwriteColours);
 	gausslod::MeshAttributes carried = attrs;
 	if (superfaceColours)
@@ -564,10 +567,12 @@ bool FilterGaussLodPlugin::buildGaussSphereLods(MeshDocument &md, const RichPara
 		textures << QString::fromStdString(t);
 	Log(QString("Carried to the levels: %1%2%3")
 	        .arg(carriedText(carried, superfaceColours))
-	        .arg(textures.isEmpty() ? QString() : QString("; textures: %1").arg(textures.join(" | ")))
+	        .arg(textures.isEmpty() ? QString()
+	                                : QString("; textures: %1").arg(textures.join(" | ")))
 	        .arg(attrs.vertColor || attrs.faceColor || attrs.wedgeTexCoord || attrs.vertTexCoord
-	                 ? superfaceColours ? "; real colours replaced by superface colours (asked)"
-	                                    : "; superface colouring off (the layer has its own colours)"
+	                 ? superfaceColours
+	                       ? "; real colours replaced by superface colours (asked)"
+	                       : "; superface colouring off (the layer has its own colours)"
 	                 : "")
 	        .toStdString());
 	if (!req.params.levelFaces.empty() || !req.params.levelDistances.empty())

@@ -7,8 +7,7 @@
 
 #include <common/interfaces.h>
 
-class FilterGaussLodPlugin : public QObject, public MeshFilterInterface
-{
+class FilterGaussLodPlugin : public QObject, public MeshFilterInterface {
 	Q_OBJECT
 	MESHLAB_PLUGIN_IID_EXPORTER(MESH_FILTER_INTERFACE_IID)
 	Q_INTERFACES(MeshFilterInterface)

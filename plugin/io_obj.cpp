@@ -55,10 +55,7 @@ void useLocalTextureNames(std::vector<std::string> &textures)
 
 } // namespace
 
-QString GaussLodObjIOPlugin::pluginName() const
-{
-	return "GaussLodObjIO";
-}
+QString GaussLodObjIOPlugin::pluginName() const { return "GaussLodObjIO"; }
 
 QList<MeshIOInterface::Format> GaussLodObjIOPlugin::importFormats() const
 {

@@ -9,8 +9,7 @@
 
 #include <common/interfaces.h>
 
-class GaussLodObjIOPlugin : public QObject, public MeshIOInterface
-{
+class GaussLodObjIOPlugin : public QObject, public MeshIOInterface {
 	Q_OBJECT
 	MESHLAB_PLUGIN_IID_EXPORTER(MESH_IO_INTERFACE_IID)
 	Q_INTERFACES(MeshIOInterface)

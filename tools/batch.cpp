@@ -21,13 +21,13 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <dirent.h>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
 #include <sys/stat.h>
 #include <unistd.h>
-#include <dirent.h>
 
 namespace cli {
 
@@ -98,7 +98,6 @@ std::string readFile(const std::string &file)
 	return s.str();
 }
 
-
 // Removes what a killed run left of `stem`: OUTDIR/<dir>/.<name>_LOD*.part-* (files, and the
 // folders OBJ levels are written in) and the record's.
 void removeParts(const std::string &stemPath)
@@ -159,13 +158,12 @@ const char *const kRecordLayout = "record=2";
 // Every option value that changes the files (not threads: the output does not depend on it).
 std::string optionsKey(const Options &o)
 {
-	std::string key = std::string(kRecordLayout) + " out=" + o.outputLevels +
-	                  " by=" + gausslod::levelsByText(o.params) +
-	                  " colour=" + std::to_string(int(o.colour)) +
-	                  " overwrite=" + std::to_string(int(o.overwriteColours)) +
-	                  " format=" + (o.format.empty() ? "input" : o.format) +
-	                  " lodfile=" + std::to_string(int(o.lodFile)) +
-	                  " tiles=" + std::to_string(int(o.tiles));
+	std::string key =
+	    std::string(kRecordLayout) + " out=" + o.outputLevels +
+	    " by=" + gausslod::levelsByText(o.params) + " colour=" + std::to_string(int(o.colour)) +
+	    " overwrite=" + std::to_string(int(o.overwriteColours)) +
+	    " format=" + (o.format.empty() ? "input" : o.format) +
+	    " lodfile=" + std::to_string(int(o.lodFile)) + " tiles=" + std::to_string(int(o.tiles));
 	char buf[64];
 	for (const double t : o.tilesTransform) {
 		std::snprintf(buf, sizeof buf, " %.17g", t);
@@ -181,8 +179,9 @@ std::string optionsKey(const Options &o)
 
 int batchUsage(const std::string &why)
 {
-	std::fprintf(stderr, "gausslod batch: %s\nusage: gausslod batch [options] MANIFEST OUTDIR "
-	                     "[--part K/N]\n",
+	std::fprintf(stderr,
+	             "gausslod batch: %s\nusage: gausslod batch [options] MANIFEST OUTDIR "
+	             "[--part K/N]\n",
 	             why.c_str());
 	return kUsage;
 }
@@ -201,7 +200,8 @@ int batchMain(const std::vector<std::string> &argsIn)
 		unsigned long k = 0, n = 0;
 		char extra = 0;
 		if (i + 1 >= argsIn.size() ||
-		    std::sscanf(argsIn[i + 1].c_str(), "%lu/%lu%c", &k, &n, &extra) != 2 || n == 0 || k >= n)
+		    std::sscanf(argsIn[i + 1].c_str(), "%lu/%lu%c", &k, &n, &extra) != 2 || n == 0 ||
+		    k >= n)
 			return batchUsage("--part needs K/N with 0 <= K < N");
 		part = k, parts = n, ++i;
 	}
@@ -291,7 +291,8 @@ int batchMain(const std::vector<std::string> &argsIn)
 	}
 	const double secs =
 	    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-	std::fprintf(stderr, "gausslod batch: part %zu/%zu: %zu ok (%zu already done), %zu failed, %.2f s\n",
+	std::fprintf(stderr,
+	             "gausslod batch: part %zu/%zu: %zu ok (%zu already done), %zu failed, %.2f s\n",
 	             part, parts, ok, cached, failed, secs);
 	return failed ? kFailed : kOk;
 }

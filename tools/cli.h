@@ -23,16 +23,16 @@ enum Exit {
 };
 
 struct Options {
-	gausslod::Params params;           ///< the engine's (--kebab-case of their names)
-	std::string outputLevels = "all"; ///< the text form of params.outputLevels
-	std::string levelsBy = "angle";   ///< --levels-by: the text form of the targets
+	gausslod::Params params;                    ///< the engine's (--kebab-case of their names)
+	std::string outputLevels = "all";           ///< the text form of params.outputLevels
+	std::string levelsBy = "angle";             ///< --levels-by: the text form of the targets
 	int maxLevel = gausslod::Params{}.maxLevel; ///< --max-level (the levels by angle)
-	bool colour = true;                ///< --colour-superfaces (only where the input has no colour)
-	bool overwriteColours = false;     ///< --overwrite-colours: superface colours replace the input's
-	std::string format;                ///< --format ply|obj|off|stl|glb; "" = the input's
-	bool lodFile = false;              ///< --lod-file: the chain as one glb with MSFT_lod
-	bool tiles = false;                ///< --3dtiles: a 3D Tiles tileset of glb levels
-	std::vector<double> tilesTransform; ///< --tiles-transform: the root's (16, column major)
+	bool colour = true;            ///< --colour-superfaces (only where the input has no colour)
+	bool overwriteColours = false; ///< --overwrite-colours: superface colours replace the input's
+	std::string format;            ///< --format ply|obj|off|stl|glb; "" = the input's
+	bool lodFile = false;          ///< --lod-file: the chain as one glb with MSFT_lod
+	bool tiles = false;            ///< --3dtiles: a 3D Tiles tileset of glb levels
+	std::vector<double> tilesTransform;       ///< --tiles-transform: the root's (16, column major)
 	std::string tilesetName = "tileset.json"; ///< --3dtiles: OUTDIR/<this> (batch: per input)
 	bool json = false;
 	bool quiet = false; ///< --quiet: no progress line on a terminal
@@ -52,7 +52,7 @@ struct Outcome {
 	std::string kind = "ok"; ///< ok, or the error's kind (cannot_open, corrupt, bad_input, ...)
 	std::string message;     ///< one line, without the file name
 	size_t inputFaces = 0, inputVertices = 0;
-	double diagonal = 0; ///< of the input's bounding box
+	double diagonal = 0;                      ///< of the input's bounding box
 	std::vector<gausslod::LevelStats> levels; ///< (vertices: the file's)
 	std::vector<std::string> files;           ///< the level files, one per level
 	std::vector<std::string> materialFiles;   ///< per level: its OBJ material file, or ""

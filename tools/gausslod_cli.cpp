@@ -8,11 +8,11 @@
 #include "level_files.h"
 
 #include <cctype>
-#include <csignal>
 #include <cerrno>
+#include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
-#include <cmath>
 #include <cstring>
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -132,11 +132,12 @@ bool mlxOptions(const std::string &file, std::vector<std::string> &out, std::str
 	using gausslod::ParamKind;
 	// (levels by target: the number of targets is the number of levels, 'maxLevel' unused)
 	const std::string by = value("levelsBy");
-	const bool byTarget = (xmlAttribute(tags["levelsBy"], "type") == "RichEnum" &&
-	                       (by == "1" || by == "2")) ||
-	                      by.compare(0, 6, "faces:") == 0 || by.compare(0, 6, "error:") == 0;
+	const bool byTarget =
+	    (xmlAttribute(tags["levelsBy"], "type") == "RichEnum" && (by == "1" || by == "2")) ||
+	    by.compare(0, 6, "faces:") == 0 || by.compare(0, 6, "error:") == 0;
 	for (const gausslod::ParamSpec &sp : gausslod::paramSpecs()) {
-		if (!sp.inFilter || !tags.count(sp.name) || (byTarget && std::string(sp.name) == "maxLevel"))
+		if (!sp.inFilter || !tags.count(sp.name) ||
+		    (byTarget && std::string(sp.name) == "maxLevel"))
 			continue;
 		const std::string tag = tags[sp.name], v = xmlAttribute(tag, "value");
 		std::string arg = v;
@@ -144,14 +145,15 @@ bool mlxOptions(const std::string &file, std::vector<std::string> &out, std::str
 			const double x = std::atof(v.c_str()), lo = std::atof(xmlAttribute(tag, "min").c_str()),
 			             hi = std::atof(xmlAttribute(tag, "max").c_str());
 			if (!(hi > lo))
-				return error = "--from-mlx: " + std::string(sp.name) + " has no min..max range", false;
+				return error = "--from-mlx: " + std::string(sp.name) + " has no min..max range",
+				       false;
 			char buf[64];
 			std::snprintf(buf, sizeof buf, "%.17g", 100.0 * (x - lo) / (hi - lo));
 			arg = buf;
 		} else if (sp.kind == ParamKind::LevelTargets) {
 			const std::string type = xmlAttribute(tag, "type");
 			if (type == "RichEnum")
-				arg = v == "1" ? "faces:" + value("levelTargets")
+				arg = v == "1"   ? "faces:" + value("levelTargets")
 				      : v == "2" ? "error:" + value("levelTargets")
 				                 : "angle";
 		}
@@ -191,14 +193,12 @@ void setError(Outcome &out, int code, const char *kind, const std::string &messa
 void setEngineError(Outcome &out, const gausslod::Result &res)
 {
 	switch (res.errorKind) {
-	case gausslod::ErrorKind::BadParameter:
-		return setError(out, kUsage, "bad_parameter", res.error);
-	case gausslod::ErrorKind::BadInput:
-		return setError(out, kUnusable, "bad_input", res.error);
-	case gausslod::ErrorKind::OutOfMemory:
-		return setError(out, kNoMemory, "out_of_memory", res.error);
-	default:
-		return setError(out, kFailed, "failed", res.error);
+		case gausslod::ErrorKind::BadParameter:
+			return setError(out, kUsage, "bad_parameter", res.error);
+		case gausslod::ErrorKind::BadInput: return setError(out, kUnusable, "bad_input", res.error);
+		case gausslod::ErrorKind::OutOfMemory:
+			return setError(out, kNoMemory, "out_of_memory", res.error);
+		default: return setError(out, kFailed, "failed", res.error);
 	}
 }
 
@@ -246,16 +246,21 @@ const char *optionHelp()
 				def = line;
 			}
 			const std::string flag = flagOf(s.name) + " " + arg;
-			std::snprintf(line, sizeof line, "  %-22s %s (%s)\n", flag.c_str(), s.summary, def.c_str());
+			std::snprintf(line, sizeof line, "  %-22s %s (%s)\n", flag.c_str(), s.summary,
+			              def.c_str());
 			h += line;
 			if (s.kind == ParamKind::LevelTargets)
-				h += "                         faces: one level per budget (% of the input's faces\n"
-				     "                         or counts), each with its distance tolerance searched\n"
-				     "                         for the most faces within it; error: one level per\n"
-				     "                         tolerance (% of bbox diagonal). The number of targets\n"
-				     "                         (up to 8) sets the number of levels; each level keeps\n"
-				     "                         its normal bound, so a budget may be out of reach\n"
-				     "                         (the table's reached column says so)\n";
+				h +=
+				    "                         faces: one level per budget (% of the input's faces\n"
+				    "                         or counts), each with its distance tolerance "
+				    "searched\n"
+				    "                         for the most faces within it; error: one level per\n"
+				    "                         tolerance (% of bbox diagonal). The number of "
+				    "targets\n"
+				    "                         (up to 8) sets the number of levels; each level "
+				    "keeps\n"
+				    "                         its normal bound, so a budget may be out of reach\n"
+				    "                         (the table's reached column says so)\n";
 		}
 		h += "  --colour-superfaces BOOL  colour faces by superface where the input has no colour\n"
 		     "                         of its own (no vertex or face colour, no texture\n"
@@ -380,9 +385,9 @@ bool parseOptions(const std::vector<std::string> &given, Options &o,
 	if (!gausslod::parseLevelsBy(o.levelsBy, o.params, error))
 		return false;
 	if (maxLevelGiven && o.params.maxLevel != o.maxLevel)
-		return error = "--levels-by " + o.levelsBy + " makes " +
-		               std::to_string(o.params.maxLevel) + " levels (one per target); --max-level " +
-		               std::to_string(o.maxLevel) + " disagrees (leave it out)",
+		return error = "--levels-by " + o.levelsBy + " makes " + std::to_string(o.params.maxLevel) +
+		               " levels (one per target); --max-level " + std::to_string(o.maxLevel) +
+		               " disagrees (leave it out)",
 		       false;
 	if ((o.lodFile || o.tiles) && o.format != "glb")
 		return error = std::string(o.tiles ? "--3dtiles" : "--lod-file") +
@@ -391,8 +396,8 @@ bool parseOptions(const std::vector<std::string> &given, Options &o,
 	if (!o.tilesTransform.empty() && !o.tiles)
 		return error = "--tiles-transform is for --3dtiles", false;
 	error = gausslod::validateParams(o.params);
-	return error.empty() &&
-	       gausslod::parseOutputLevels(o.outputLevels, o.params.maxLevel, o.params.outputLevels, error);
+	return error.empty() && gausslod::parseOutputLevels(o.outputLevels, o.params.maxLevel,
+	                                                    o.params.outputLevels, error);
 }
 
 bool writeAtomically(const std::string &file, const std::string &text)
@@ -431,14 +436,15 @@ std::string jsonString(const std::string &s)
 std::string repairsJson(const gausslod::InputStats &in)
 {
 	char buf[480];
-	std::snprintf(buf, sizeof buf,
-	              "\"welded_vertices\":%zu,\"faces_reindexed\":%zu,"
-	              "\"faces_skipped_repeated_vertex\":%zu,\"faces_skipped_duplicate\":%zu,"
-	              "\"faces_kept_degenerate\":%zu,\"vertices_locked\":%zu,"
-	              "\"coplanar_regions\":%zu,\"faces_after_coplanar\":%zu,\"coplanar_distance\":%.9g",
-	              in.weldedVertices, in.facesReindexed, in.facesRepeatedVertex, in.facesDuplicate,
-	              in.facesDegenerate, in.verticesLocked, in.coplanarRegions, in.facesAfterCoplanar,
-	              in.coplanarDistance);
+	std::snprintf(
+	    buf, sizeof buf,
+	    "\"welded_vertices\":%zu,\"faces_reindexed\":%zu,"
+	    "\"faces_skipped_repeated_vertex\":%zu,\"faces_skipped_duplicate\":%zu,"
+	    "\"faces_kept_degenerate\":%zu,\"vertices_locked\":%zu,"
+	    "\"coplanar_regions\":%zu,\"faces_after_coplanar\":%zu,\"coplanar_distance\":%.9g",
+	    in.weldedVertices, in.facesReindexed, in.facesRepeatedVertex, in.facesDuplicate,
+	    in.facesDegenerate, in.verticesLocked, in.coplanarRegions, in.facesAfterCoplanar,
+	    in.coplanarDistance);
 	return buf;
 }
 
@@ -500,21 +506,21 @@ std::string levelJson(const gausslod::Params &p, const Outcome &o, size_t i)
 	              "\"placed_vertices\":%zu,\"max_placement_pct\":%.4f,\"max_placement\":%.6g,",
 	              s.placedVertices, o.diagonal > 0 ? 100.0 * s.maxPlacement / o.diagonal : 0.0,
 	              s.maxPlacement);
-	std::snprintf(buf, sizeof buf,
-	              "{\"level\":%d,\"faces\":%zu,\"vertices\":%zu,\"superfaces\":%zu,"
-	              "\"fallbacks\":%zu,\"retriangulated\":%zu,\"carried_superfaces\":%zu,"
-	              "\"bound_deg\":%.4f,\"max_dev_deg\":%.4f,\"mean_dev_deg\":%.4f,"
-	              "\"unmeasured_faces\":%zu,"
-	              "\"seconds\":%.4f,\"seconds_partition\":%.4f,\"seconds_borders\":%.4f,"
-	              "\"seconds_triangulation\":%.4f,\"seconds_checks\":%.4f,"
-	              "\"seconds_placement\":%.4f,\"seconds_collapse\":%.4f,\"rounds\":%d,"
-	              "\"collapses\":%zu,\"reduced\":%s,\"reused_finer\":%s,\"distance_bound_pct\":%s,%s",
-	              s.level, s.faces, s.vertices, s.superfaces, s.fallbacks, s.retriangulated,
-	              s.carriedSuperfaces, s.boundDeg, s.maxNormalDevDeg, s.meanNormalDevDeg,
-	              s.unmeasuredFaces, s.seconds, s.secondsPartition, s.secondsBorders,
-	              s.secondsTriangulation, s.secondsChecks, s.secondsPlacement, s.secondsCollapse,
-	              s.rounds, s.collapses, s.reduced ? "true" : "false",
-	              s.reusedFiner ? "true" : "false", dist, placed);
+	std::snprintf(
+	    buf, sizeof buf,
+	    "{\"level\":%d,\"faces\":%zu,\"vertices\":%zu,\"superfaces\":%zu,"
+	    "\"fallbacks\":%zu,\"retriangulated\":%zu,\"carried_superfaces\":%zu,"
+	    "\"bound_deg\":%.4f,\"max_dev_deg\":%.4f,\"mean_dev_deg\":%.4f,"
+	    "\"unmeasured_faces\":%zu,"
+	    "\"seconds\":%.4f,\"seconds_partition\":%.4f,\"seconds_borders\":%.4f,"
+	    "\"seconds_triangulation\":%.4f,\"seconds_checks\":%.4f,"
+	    "\"seconds_placement\":%.4f,\"seconds_collapse\":%.4f,\"rounds\":%d,"
+	    "\"collapses\":%zu,\"reduced\":%s,\"reused_finer\":%s,\"distance_bound_pct\":%s,%s",
+	    s.level, s.faces, s.vertices, s.superfaces, s.fallbacks, s.retriangulated,
+	    s.carriedSuperfaces, s.boundDeg, s.maxNormalDevDeg, s.meanNormalDevDeg, s.unmeasuredFaces,
+	    s.seconds, s.secondsPartition, s.secondsBorders, s.secondsTriangulation, s.secondsChecks,
+	    s.secondsPlacement, s.secondsCollapse, s.rounds, s.collapses, s.reduced ? "true" : "false",
+	    s.reusedFiner ? "true" : "false", dist, placed);
 	// (the texture limit the level was held to: its own, DESIGN 51, or the parameter's)
 	char texLimit[64] = "null";
 	if (s.maxTexError >= 0)
@@ -549,7 +555,8 @@ std::string repairsText(const gausslod::InputStats &in, const std::vector<std::s
 		add(buf);
 	}
 	if (in.facesSkipped()) {
-		std::snprintf(buf, sizeof buf, "%zu faces skipped (%zu with a repeated vertex, %zu repeats)",
+		std::snprintf(buf, sizeof buf,
+		              "%zu faces skipped (%zu with a repeated vertex, %zu repeats)",
 		              in.facesSkipped(), in.facesRepeatedVertex, in.facesDuplicate);
 		add(buf);
 	}
@@ -660,7 +667,8 @@ void writeChain(const InputMesh &in, const Options &o, const std::string &outdir
 		std::vector<double> coverage;
 		for (size_t i = 0; i < nLevels && i < errors.size(); ++i) {
 			meshes.push_back(&levels[i]);
-			coverage.push_back(errors[i] > 0 ? std::min(1.0, diagonal / (errors[i] * 1080.0)) : 1.0);
+			coverage.push_back(errors[i] > 0 ? std::min(1.0, diagonal / (errors[i] * 1080.0))
+			                                 : 1.0);
 		}
 		coverage.push_back(0.0);
 		const std::string file = outdir + "/" + stem + "_lods.glb",
@@ -712,7 +720,8 @@ Outcome runOne(const std::string &input, const std::string &outdir, const std::s
 #endif
 		std::string writeError;
 		std::unique_ptr<LevelWriter> writer; // (made with the folder: texture names are from it)
-		// each level is written as soon as it is built, then dropped (one level in memory at a time)
+		// each level is written as soon as it is built, then dropped (one level in memory at a
+		// time)
 		auto sink = [&](const gausslod::LevelMesh &lm) {
 			if (!writer) {
 				if (!makeDirs(outdir)) {
@@ -754,28 +763,29 @@ namespace {
 
 void usage()
 {
-	std::fprintf(stderr,
-	             "usage: gausslod [options] INPUT OUTDIR\n"
-	             "       gausslod --check [options] INPUT\n"
-	             "       gausslod batch [options] MANIFEST OUTDIR [--part K/N]\n"
-	             "  INPUT: .ply .obj .off .stl triangle mesh; OUTDIR: created if missing\n"
-	             "  Each level is OUTDIR/<name>_LOD<i>.<ext> in INPUT's format unless --format says\n"
-	             "  another (OBJ with its <name>_LOD<i>.obj.mtl), with what INPUT carries as far as the\n"
-	             "  format holds it: vertex colours and quality, texture coordinates (per vertex or\n"
-	             "  per face corner), texture files, materials and face colours, vertex normals\n"
-	             "  (recomputed). Texture names relative to INPUT's folder are rewritten relative to\n"
-	             "  OUTDIR (images are not copied). Faces are coloured by superface only if INPUT has\n"
-	             "  no colour and no texture coordinates (--overwrite-colours: always; --no-colour:\n"
-	             "  never). Materials, texture seams and colour changes are borders no level\n"
-	             "  crosses (--keep-materials, --keep-seams); --max-tex-error bounds how far texture\n"
-	             "  coordinates move (the table's texerr column, UV units).\n"
-	             "  --check: read and check INPUT only (no level is built), same messages and codes\n"
-	             "  batch: one input per MANIFEST line (path, then options); see the README\n"
-	             "%s"
-	             "exit codes: 0 ok, 1 failed, 2 bad usage or parameter, 3 cannot open the input,\n"
-	             "  4 not a readable mesh file, 5 nothing to simplify (no faces, bad coordinates),\n"
-	             "  6 not enough memory, 7 cannot write the output\n",
-	             cli::optionHelp());
+	std::fprintf(
+	    stderr,
+	    "usage: gausslod [options] INPUT OUTDIR\n"
+	    "       gausslod --check [options] INPUT\n"
+	    "       gausslod batch [options] MANIFEST OUTDIR [--part K/N]\n"
+	    "  INPUT: .ply .obj .off .stl triangle mesh; OUTDIR: created if missing\n"
+	    "  Each level is OUTDIR/<name>_LOD<i>.<ext> in INPUT's format unless --format says\n"
+	    "  another (OBJ with its <name>_LOD<i>.obj.mtl), with what INPUT carries as far as the\n"
+	    "  format holds it: vertex colours and quality, texture coordinates (per vertex or\n"
+	    "  per face corner), texture files, materials and face colours, vertex normals\n"
+	    "  (recomputed). Texture names relative to INPUT's folder are rewritten relative to\n"
+	    "  OUTDIR (images are not copied). Faces are coloured by superface only if INPUT has\n"
+	    "  no colour and no texture coordinates (--overwrite-colours: always; --no-colour:\n"
+	    "  never). Materials, texture seams and colour changes are borders no level\n"
+	    "  crosses (--keep-materials, --keep-seams); --max-tex-error bounds how far texture\n"
+	    "  coordinates move (the table's texerr column, UV units).\n"
+	    "  --check: read and check INPUT only (no level is built), same messages and codes\n"
+	    "  batch: one input per MANIFEST line (path, then options); see the README\n"
+	    "%s"
+	    "exit codes: 0 ok, 1 failed, 2 bad usage or parameter, 3 cannot open the input,\n"
+	    "  4 not a readable mesh file, 5 nothing to simplify (no faces, bad coordinates),\n"
+	    "  6 not enough memory, 7 cannot write the output\n",
+	    cli::optionHelp());
 }
 
 // The table's columns of levels by target: the level's target, whether it was reached and the
@@ -890,13 +900,13 @@ int main(int argc, char **argv)
 				std::printf("attributes carried: %s\n", carried.c_str());
 			if (targets)
 				std::printf("levels by %s\n", gausslod::levelsByText(o.params).c_str());
-			std::printf("%-6s %9s %9s %10s %9s %9s %9s %9s %8s%s%s%s%s%s\n", "level", "faces", "vertices",
-			            "superfaces", "fallback", "bound", "maxdev", "meandev", "seconds",
-			            distance ? "    placed distbound%" : "", texture ? "     texerr" : "",
-			            targets ? (o.params.levelFaces.empty() ? "    target%" : "     target")
-			            : "",
-			            targets ? " reached      tol% trials" : "",
-			            o.params.certifyDistance ? " hausdorff%" : "");
+			std::printf(
+			    "%-6s %9s %9s %10s %9s %9s %9s %9s %8s%s%s%s%s%s\n", "level", "faces", "vertices",
+			    "superfaces", "fallback", "bound", "maxdev", "meandev", "seconds",
+			    distance ? "    placed distbound%" : "", texture ? "     texerr" : "",
+			    targets ? (o.params.levelFaces.empty() ? "    target%" : "     target") : "",
+			    targets ? " reached      tol% trials" : "",
+			    o.params.certifyDistance ? " hausdorff%" : "");
 			std::printf("%-6s %9zu %9zu %10s %9s %9s %9s %9s %8s%s%s\n", "input", sofar.inputFaces,
 			            sofar.inputVertices, "-", "-", "-", "-", "-", "-",
 			            distance ? "         -          -" : "", texture ? "          -" : "");
@@ -951,8 +961,9 @@ int main(int argc, char **argv)
 	clearProgress();
 	if (interrupted) {
 		cli::removeLevelParts(outdir, stem);
-		std::fprintf(stderr, "gausslod: interrupted: %zu level%s written, each complete; no "
-		                     "partial file left\n",
+		std::fprintf(stderr,
+		             "gausslod: interrupted: %zu level%s written, each complete; no "
+		             "partial file left\n",
 		             out.files.size(), out.files.size() == 1 ? "" : "s");
 		return 130;
 	}
@@ -968,14 +979,15 @@ int main(int argc, char **argv)
 				list += (list.empty() ? "" : ", ") + ("LOD" + std::to_string(l.level));
 		}
 		if (!made.empty())
-			std::printf("%s: made from the finer level by edge collapses, at the superface level's "
-			            "face count within its distance bound (maxdev: a bound; meandev: an estimate)\n",
-			            made.c_str());
+			std::printf(
+			    "%s: made from the finer level by edge collapses, at the superface level's "
+			    "face count within its distance bound (maxdev: a bound; meandev: an estimate)\n",
+			    made.c_str());
 		if (!reduced.empty())
-			std::printf("%s: continued by edge collapses with quadric placement to %s (maxdev, "
-			            "meandev: measured, each input face against the level's nearest triangle)\n",
-			            reduced.c_str(),
-			            targets ? "the level's target" : "a real step (--complete-chain)");
+			std::printf(
+			    "%s: continued by edge collapses with quadric placement to %s (maxdev, "
+			    "meandev: measured, each input face against the level's nearest triangle)\n",
+			    reduced.c_str(), targets ? "the level's target" : "a real step (--complete-chain)");
 		for (const gausslod::LevelStats &l : out.levels) {
 			const std::string note = gausslod::budgetNote(l);
 			if (!note.empty())

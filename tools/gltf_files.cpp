@@ -34,8 +34,8 @@ int addView(tinygltf::Model &model, const void *bytes, size_t size, int target)
 int addAccessor(tinygltf::Model &model, const std::vector<float> &values, int type, int per)
 {
 	tinygltf::Accessor a;
-	a.bufferView = addView(model, values.data(), values.size() * sizeof(float),
-	                       TINYGLTF_TARGET_ARRAY_BUFFER);
+	a.bufferView =
+	    addView(model, values.data(), values.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
 	a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
 	a.count = values.size() / size_t(per);
 	a.type = type;
@@ -62,8 +62,9 @@ int textureOf(tinygltf::Model &model, std::map<std::string, int> &done, const st
 		return it->second;
 	int id = -1;
 	const std::string ext = lowerExtension(file);
-	const char *mime = ext == "png" ? "image/png" : ext == "jpg" || ext == "jpeg" ? "image/jpeg"
-	                                                                               : nullptr;
+	const char *mime = ext == "png"                    ? "image/png"
+	                   : ext == "jpg" || ext == "jpeg" ? "image/jpeg"
+	                                                   : nullptr;
 	std::ifstream in(file, std::ios::binary);
 	std::vector<unsigned char> bytes;
 	if (mime && in)
@@ -97,8 +98,10 @@ int addMesh(tinygltf::Model &model, const GltfMesh &m, std::map<std::string, int
 		a.maxValues.assign(3, -HUGE_VAL);
 		for (size_t i = 0; i + 2 < m.positions.size(); i += 3)
 			for (int j = 0; j < 3; ++j) {
-				a.minValues[size_t(j)] = std::min(a.minValues[size_t(j)], double(m.positions[i + size_t(j)]));
-				a.maxValues[size_t(j)] = std::max(a.maxValues[size_t(j)], double(m.positions[i + size_t(j)]));
+				a.minValues[size_t(j)] =
+				    std::min(a.minValues[size_t(j)], double(m.positions[i + size_t(j)]));
+				a.maxValues[size_t(j)] =
+				    std::max(a.maxValues[size_t(j)], double(m.positions[i + size_t(j)]));
 			}
 		if (m.positions.empty())
 			a.minValues.assign(3, 0.0), a.maxValues.assign(3, 0.0);
@@ -125,9 +128,9 @@ int addMesh(tinygltf::Model &model, const GltfMesh &m, std::map<std::string, int
 		}
 		model.materials.push_back(mat);
 		tinygltf::Accessor idx;
-		idx.bufferView = addView(model, m.primitives[p].data(),
-		                         m.primitives[p].size() * sizeof(uint32_t),
-		                         TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+		idx.bufferView =
+		    addView(model, m.primitives[p].data(), m.primitives[p].size() * sizeof(uint32_t),
+		            TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
 		idx.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
 		idx.count = m.primitives[p].size();
 		idx.type = TINYGLTF_TYPE_SCALAR;
@@ -220,12 +223,13 @@ std::string tilesetJson(const std::vector<Tile> &tiles, const std::vector<double
 	std::string tail;
 	for (size_t i = 0; i < tiles.size(); ++i) {
 		const bool leaf = i + 1 == tiles.size();
-		std::string t = "{\"boundingVolume\":" + box.str() +
-		                ",\"geometricError\":" + num(leaf ? 0.0 : tiles[i].error) +
-		                ",\"refine\":\"REPLACE\",\"content\":{\"uri\":" + jsonString(tiles[i].content) +
-		                "},\"extras\":{\"gausslod\":{\"lod\":" + std::to_string(tiles[i].lod) +
-		                ",\"level\":" + (tiles[i].level < 0 ? std::string("null") : std::to_string(tiles[i].level)) +
-		                ",\"faces\":" + std::to_string(tiles[i].faces) + "}}";
+		std::string t =
+		    "{\"boundingVolume\":" + box.str() +
+		    ",\"geometricError\":" + num(leaf ? 0.0 : tiles[i].error) +
+		    ",\"refine\":\"REPLACE\",\"content\":{\"uri\":" + jsonString(tiles[i].content) +
+		    "},\"extras\":{\"gausslod\":{\"lod\":" + std::to_string(tiles[i].lod) + ",\"level\":" +
+		    (tiles[i].level < 0 ? std::string("null") : std::to_string(tiles[i].level)) +
+		    ",\"faces\":" + std::to_string(tiles[i].faces) + "}}";
 		if (i == 0 && transform.size() == 16) {
 			t += ",\"transform\":[";
 			for (size_t k = 0; k < 16; ++k)

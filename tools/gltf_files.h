@@ -12,9 +12,9 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <string>
-#include <cstdint>
 #include <tuple>
 #include <vector>
 
@@ -178,9 +178,9 @@ void toGltfMesh(const MeshT &m, int mask, const std::vector<std::string> &textur
 	}
 	// (a normal glTF requires unit length: a zero one, of a vertex no face spans, is made up)
 	for (size_t i = 0; i + 2 < out.normals.size(); i += 3) {
-		const float l = std::sqrt(out.normals[i] * out.normals[i] +
-		                          out.normals[i + 1] * out.normals[i + 1] +
-		                          out.normals[i + 2] * out.normals[i + 2]);
+		const float l =
+		    std::sqrt(out.normals[i] * out.normals[i] + out.normals[i + 1] * out.normals[i + 1] +
+		              out.normals[i + 2] * out.normals[i + 2]);
 		if (l > 0 && std::isfinite(l))
 			for (int j = 0; j < 3; ++j)
 				out.normals[i + size_t(j)] /= l;
@@ -205,14 +205,14 @@ bool writeGlb(const std::vector<const GltfMesh *> &meshes, const std::vector<dou
 struct Tile {
 	std::string content;
 	double error = 0;
-	int lod = 0;        ///< as renderers count: 0 = full detail (the leaf)
-	int level = -1;     ///< the paper's level index (-1: the input)
+	int lod = 0;    ///< as renderers count: 0 = full detail (the leaf)
+	int level = -1; ///< the paper's level index (-1: the input)
 	size_t faces = 0;
 	double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
 };
 
-/// A 3D Tiles 1.1 tileset.json's text: `tiles` (at least one) from the coarsest (the root) to the full
-/// detail (the leaf, error 0), each the only child of the one before, refinement REPLACE, each
+/// A 3D Tiles 1.1 tileset.json's text: `tiles` (at least one) from the coarsest (the root) to the
+/// full detail (the leaf, error 0), each the only child of the one before, refinement REPLACE, each
 /// tile's geometricError its own error (what leaving it on screen costs), every bounding volume
 /// the box of all tiles (glTF's y up turned to 3D Tiles' z up), `transform` (16 numbers, column
 /// major) on the root if not empty, each tile's lod, paper level and faces in its extras

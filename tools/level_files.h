@@ -63,11 +63,11 @@ struct InputAttributes {
 struct InputMesh {
 	gausslod::FlatMesh flat;                                     ///< what the engine works on
 	gausslod::MeshFormat format = gausslod::MeshFormat::Unknown; ///< of the input file
-	std::string folder;             ///< the input's folder (textures are relative to it)
-	bool normals = false;           ///< per-vertex normals (recomputed for each level)
-	gausslod::MeshAttributes attrs; ///< the attributes read (and carried)
-	std::unique_ptr<InputAttributes> mesh;         ///< what the levels carry of the input's
-	                                               ///< VCG mesh (only with attributes)
+	std::string folder;                    ///< the input's folder (textures are relative to it)
+	bool normals = false;                  ///< per-vertex normals (recomputed for each level)
+	gausslod::MeshAttributes attrs;        ///< the attributes read (and carried)
+	std::unique_ptr<InputAttributes> mesh; ///< what the levels carry of the input's
+	                                       ///< VCG mesh (only with attributes)
 	std::vector<vcg::tri::io::Material> materials; ///< OBJ: VCG's materials (map_Kd local)
 	std::vector<int> faceMaterial;                 ///< OBJ: per VCG face as read
 	std::vector<std::string> readNotes;            ///< what the reader skipped (ReadInfo::notes)
@@ -120,11 +120,11 @@ private:
 	int mask_ = 0;                      // vcg::tri::io::Mask bits written
 	std::vector<std::string> textures_; // names as written (relative to OUTDIR)
 	std::vector<std::string> attributes_;
-	bool glb_ = false;      // glTF: binary (glb) or text (gltfText_)
+	bool glb_ = false; // glTF: binary (glb) or text (gltfText_)
 	bool gltfText_ = false;
 	bool keepGltf_ = false;
-	mutable std::vector<GltfMesh> gltf_;        // (keepGltf)
-	mutable std::set<std::string> warnings_;    // said once
+	mutable std::vector<GltfMesh> gltf_;     // (keepGltf)
+	mutable std::set<std::string> warnings_; // said once
 };
 
 } // namespace cli

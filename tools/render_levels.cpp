@@ -22,7 +22,8 @@ int main(int argc, char **argv)
 		return 2;
 	}
 	const int W = std::atoi(argv[2]), H = W, n = argc - 5;
-	const float yaw = float(std::atof(argv[3]) * M_PI / 180), pitch = float(std::atof(argv[4]) * M_PI / 180);
+	const float yaw = float(std::atof(argv[3]) * M_PI / 180),
+	            pitch = float(std::atof(argv[4]) * M_PI / 180);
 	std::vector<unsigned char> img(size_t(W * n) * H * 3, 255);
 	vcg::Point3f center;
 	float radius = 0;
@@ -46,7 +47,8 @@ int main(int argc, char **argv)
 			const float z = -std::sin(yaw) * p[0] + std::cos(yaw) * p[2];
 			const float y = std::cos(pitch) * p[1] - std::sin(pitch) * z;
 			const float z2 = std::sin(pitch) * p[1] + std::cos(pitch) * z;
-			return vcg::Point3f((x / radius * 0.95f + 1) * W / 2, (1 - y / radius * 0.95f) * H / 2, z2);
+			return vcg::Point3f((x / radius * 0.95f + 1) * W / 2, (1 - y / radius * 0.95f) * H / 2,
+			                    z2);
 		};
 		std::vector<float> zbuf(size_t(W) * H, -1e30f);
 		for (const gausslod::IoFace &f : mesh.face) {

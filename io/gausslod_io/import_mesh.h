@@ -70,8 +70,8 @@
 #include <cstring>
 #include <exception>
 #include <fstream>
-#include <memory>
 #include <istream>
+#include <memory>
 #include <new>
 #include <streambuf>
 #include <string>
@@ -98,7 +98,7 @@ struct ReadError {
 /// What importMesh read besides positions and faces.
 struct ReadInfo {
 	int fileMask = 0; ///< what the file carries (vcg::tri::io::Mask bits, VCG's LoadMask)
-	int mask = 0;     ///< what was read into the mesh (the file's, as far as the mesh type holds it)
+	int mask = 0; ///< what was read into the mesh (the file's, as far as the mesh type holds it)
 	/// OBJ: the materials VCG's importer made of the MTL file, and per face an index into them
 	/// (faces and materials as VCG read them; its face colours come from the materials' Kd)
 	std::vector<vcg::tri::io::Material> materials;
@@ -112,12 +112,12 @@ struct ReadInfo {
 inline const char *readStatusName(ReadStatus s)
 {
 	switch (s) {
-	case ReadStatus::Ok: return "ok";
-	case ReadStatus::CannotOpen: return "cannot_open";
-	case ReadStatus::Empty: return "empty";
-	case ReadStatus::WrongFormat: return "wrong_format";
-	case ReadStatus::Corrupt: return "corrupt";
-	case ReadStatus::TooLarge: return "too_large";
+		case ReadStatus::Ok: return "ok";
+		case ReadStatus::CannotOpen: return "cannot_open";
+		case ReadStatus::Empty: return "empty";
+		case ReadStatus::WrongFormat: return "wrong_format";
+		case ReadStatus::Corrupt: return "corrupt";
+		case ReadStatus::TooLarge: return "too_large";
 	}
 	return "unknown";
 }
@@ -223,9 +223,9 @@ inline bool checkMemory(double need, ReadError &e)
 	const double avail = double(availableMemory());
 	if (need <= avail)
 		return true;
-	return fail(e, ReadStatus::TooLarge, "the header's counts need " + bytesText(need) +
-	                                         " of memory but only " + bytesText(avail) +
-	                                         " is available");
+	return fail(e, ReadStatus::TooLarge,
+	            "the header's counts need " + bytesText(need) + " of memory but only " +
+	                bytesText(avail) + " is available");
 }
 
 inline bool lyingCounts(ReadError &e, unsigned long long nv, unsigned long long nf, const char *fw,
@@ -497,7 +497,8 @@ inline bool scanOff(FILE *f, uint64_t size, double vertexBytes, double faceBytes
 			return corrupt(e, "face " + num(i) + ": colour-map index " +
 			                      quote(w[n + 1].b, w[n + 1].e) + " out of range 0..147");
 		faceColour |= w.size() > size_t(n) + 1; // (import_off.h:532)
-		if (w.size() >= size_t(n) + 1 && !offColoursOk(w, size_t(n) + 1, (long long)w.size() - n - 1))
+		if (w.size() >= size_t(n) + 1 &&
+		    !offColoursOk(w, size_t(n) + 1, (long long)w.size() - n - 1))
 			return corrupt(e, "face " + num(i) + ": colour component out of range 0..1");
 	}
 	if (nv == 0 && nf == 0)
@@ -539,7 +540,7 @@ private:
 // ---- OBJ ---------------------------------------------------------------------------------------
 
 struct ObjScan {
-	std::vector<int> tri;           // the triangles VCG should build (fan of each face line)
+	std::vector<int> tri;            // the triangles VCG should build (fan of each face line)
 	std::vector<unsigned char> faux; // per triangle: bit k set if edge k is inside a polygon
 	long long vertices = 0;
 	bool vertexColours = false; // a vertex line with colours ('v x y z r g b')
@@ -617,8 +618,9 @@ inline bool joinLine(LineReader &in, std::string &joined, bool &usedJoined, cons
 			return corrupt(e, std::string(where) + " line " + num((long long)first) +
 			                      " ends with a '\\' continuation but no line follows");
 		if (in.data()[in.size() - 1] == '\r')
-			return corrupt(e, std::string(where) + " line " + num((long long)first) +
-			                      ": a '\\' continuation with CRLF line ends (VCG joins it wrongly)");
+			return corrupt(e,
+			               std::string(where) + " line " + num((long long)first) +
+			                   ": a '\\' continuation with CRLF line ends (VCG joins it wrongly)");
 		if (mask)
 			mask->add(in);
 		joined.pop_back();
@@ -682,7 +684,9 @@ inline bool scanObj(FILE *f, const std::string &path, uint64_t size, double vert
 		if (w.empty())
 			continue;
 		const size_t hl = size_t(w[0].e - w[0].b);
-		auto is = [&](const char *s) { return std::strlen(s) == hl && !std::strncmp(w[0].b, s, hl); };
+		auto is = [&](const char *s) {
+			return std::strlen(s) == hl && !std::strncmp(w[0].b, s, hl);
+		};
 		if (is("v")) {
 			++out.vertices;
 			++statements;
@@ -708,7 +712,7 @@ inline bool scanObj(FILE *f, const std::string &path, uint64_t size, double vert
 			}
 			if (out.vertices > mask.v)
 				return corrupt(e, at() + "a vertex statement that does not start its line as "
-				                       "'v x y z'");
+				                         "'v x y z'");
 		} else if (is("vt")) {
 			nvt += w.size() >= 3; // (VCG stops at a shorter one)
 		} else if (is("vn")) {
@@ -730,8 +734,7 @@ inline bool scanObj(FILE *f, const std::string &path, uint64_t size, double vert
 				const long long v = q ? r : (r > 0 ? r - 1 : out.vertices + r);
 				if ((!q && r == 0) || v < 0 || v >= out.vertices)
 					return corrupt(e, at() + "face uses vertex " + quote(w[j].b, s1) + " but " +
-					                      num(out.vertices) +
-					                      " vertices are defined before it");
+					                      num(out.vertices) + " vertices are defined before it");
 				// texture and normal indices, split as VCG's SplitToken (import_obj.h:822) does,
 				// must name earlier vt / vn lines: an empty one is -1 there, which its
 				// GoodObjIndex turns into one past the end (:190, read at :683 and :695)
@@ -739,8 +742,7 @@ inline bool scanObj(FILE *f, const std::string &path, uint64_t size, double vert
 				const long long counts[2] = {nvt, nvn};
 				const Word parts[2] = {{s1 == w[j].e ? s1 : s1 + 1, s2},
 				                       {s2 == w[j].e ? s2 : s2 + 1, w[j].e}};
-				const bool given[2] = {s1 != w[j].e && (s2 == w[j].e || s1 + 1 < s2),
-				                       s2 != w[j].e};
+				const bool given[2] = {s1 != w[j].e && (s2 == w[j].e || s1 + 1 < s2), s2 != w[j].e};
 				for (int c = 0; c < 2; ++c) {
 					if (!given[c])
 						continue;
@@ -770,8 +772,9 @@ inline bool scanObj(FILE *f, const std::string &path, uint64_t size, double vert
 					                      " vertices are defined before it");
 			}
 		} else if (is("mtllib") && w.size() > 1) {
-			const std::string name = w.size() == 2 ? std::string(w[1].b, w[1].e)
-			                                       : std::string(start + std::min<size_t>(7, len), end);
+			const std::string name = w.size() == 2
+			                             ? std::string(w[1].b, w[1].e)
+			                             : std::string(start + std::min<size_t>(7, len), end);
 			if (!checkMaterialFile(name, e, &out.definedMaterials))
 				return false;
 		} else if (is("usemtl")) {
@@ -837,11 +840,11 @@ inline bool precheckPlyHeader(FILE *f, PlyHeader &h, ReadError &e)
 			return corrupt(e, "no PLY header (the file does not start with 'ply')");
 		if (std::strcmp(word, "format") == 0) {
 			const char *fmt = strtok_r(nullptr, " \t\r\n", &save);
-			h.format = !fmt ? 0
-			                : !std::strcmp(fmt, "ascii")                ? 1
-			                  : !std::strcmp(fmt, "binary_little_endian") ? 2
-			                  : !std::strcmp(fmt, "binary_big_endian")    ? 3
-			                                                              : 0;
+			h.format = !fmt                                        ? 0
+			           : !std::strcmp(fmt, "ascii")                ? 1
+			           : !std::strcmp(fmt, "binary_little_endian") ? 2
+			           : !std::strcmp(fmt, "binary_big_endian")    ? 3
+			                                                       : 0;
 		} else if (std::strcmp(word, "element") == 0) {
 			const char *name = strtok_r(nullptr, " \t\r\n", &save);
 			const char *count = name ? strtok_r(nullptr, " \t\r\n", &save) : nullptr;
@@ -887,14 +890,44 @@ inline bool readPlyBinary(FILE *f, int t, bool bigEndian, double &v)
 	if (bigEndian)
 		std::reverse(b, b + n);
 	switch (t) {
-	case vcg::ply::T_CHAR: v = double(int8_t(b[0])); break;
-	case vcg::ply::T_UCHAR: v = double(b[0]); break;
-	case vcg::ply::T_SHORT: { int16_t x; std::memcpy(&x, b, 2); v = x; break; }
-	case vcg::ply::T_USHORT: { uint16_t x; std::memcpy(&x, b, 2); v = x; break; }
-	case vcg::ply::T_INT: { int32_t x; std::memcpy(&x, b, 4); v = x; break; }
-	case vcg::ply::T_UINT: { uint32_t x; std::memcpy(&x, b, 4); v = x; break; }
-	case vcg::ply::T_FLOAT: { float x; std::memcpy(&x, b, 4); v = x; break; }
-	default: { double x; std::memcpy(&x, b, 8); v = x; break; }
+		case vcg::ply::T_CHAR: v = double(int8_t(b[0])); break;
+		case vcg::ply::T_UCHAR: v = double(b[0]); break;
+		case vcg::ply::T_SHORT: {
+			int16_t x;
+			std::memcpy(&x, b, 2);
+			v = x;
+			break;
+		}
+		case vcg::ply::T_USHORT: {
+			uint16_t x;
+			std::memcpy(&x, b, 2);
+			v = x;
+			break;
+		}
+		case vcg::ply::T_INT: {
+			int32_t x;
+			std::memcpy(&x, b, 4);
+			v = x;
+			break;
+		}
+		case vcg::ply::T_UINT: {
+			uint32_t x;
+			std::memcpy(&x, b, 4);
+			v = x;
+			break;
+		}
+		case vcg::ply::T_FLOAT: {
+			float x;
+			std::memcpy(&x, b, 4);
+			v = x;
+			break;
+		}
+		default: {
+			double x;
+			std::memcpy(&x, b, 8);
+			v = x;
+			break;
+		}
 	}
 	return true;
 }
@@ -940,7 +973,7 @@ inline bool hostLittleEndian()
 }
 
 constexpr size_t kPlyVertexBytes = 12, kPlyFaceBytes = 13; // (xyz; a count byte, three indices)
-constexpr size_t kPlyBatch = 1 << 14;                       // records per fread
+constexpr size_t kPlyBatch = 1 << 14;                      // records per fread
 
 /// Reads the face records of a SimplePly file from `f` (positioned at the first one), a batch at a
 /// time into `buf`, and checks them: a count of 3 and indices within 0..vertices-1. Calls
@@ -1057,9 +1090,20 @@ inline bool checkPly(const std::string &path, FILE *f, uint64_t size, double ver
 		return false;
 	vcg::ply::PlyFile pf;
 	if (pf.Open(path.c_str(), vcg::ply::PlyFile::MODE_READ) == -1) {
-		static const char *msgs[] = {"", "cannot open", "no PLY header", "end of file in the header",
-		                             "no format line", "syntax error", "property without element",
-		                             "bad type name", "", "", "", "", "", "stream error"};
+		static const char *msgs[] = {"",
+		                             "cannot open",
+		                             "no PLY header",
+		                             "end of file in the header",
+		                             "no format line",
+		                             "syntax error",
+		                             "property without element",
+		                             "bad type name",
+		                             "",
+		                             "",
+		                             "",
+		                             "",
+		                             "",
+		                             "stream error"};
 		const int err = pf.GetError();
 		return corrupt(e, std::string("bad PLY header: ") +
 		                      (err > 0 && err < 14 && *msgs[err] ? msgs[err] : "unreadable"));
@@ -1104,8 +1148,8 @@ inline bool checkPly(const std::string &path, FILE *f, uint64_t size, double ver
 		if (vertexElements > 1 || faceElements > 1)
 			return corrupt(e, "two PLY '" + el.name + "' elements");
 		if (el.name == "tristrips" || el.name == "range_grid")
-			return fail(e, ReadStatus::WrongFormat, "PLY element '" + el.name +
-			                                            "' is not supported (only faces are read)");
+			return fail(e, ReadStatus::WrongFormat,
+			            "PLY element '" + el.name + "' is not supported (only faces are read)");
 		const bool face = el.name == "face";
 		double row = 0;
 		bool indexList = false;
@@ -1176,8 +1220,8 @@ inline bool checkPly(const std::string &path, FILE *f, uint64_t size, double ver
 						return corrupt(e, what + ": unparsable number");
 					if (!p.islist)
 						continue;
-					const bool index = face &&
-					                   (p.name == "vertex_indices" || p.name == "vertex_index");
+					const bool index =
+					    face && (p.name == "vertex_indices" || p.name == "vertex_index");
 					// VCG copies face lists into int[512] and keeps the count in a byte; other
 					// lists into 32-entry arrays or 512-byte skip buffers with a 1-byte count
 					// (written so that a NaN or huge count of a float-typed list fails too)
@@ -1195,9 +1239,8 @@ inline bool checkPly(const std::string &path, FILE *f, uint64_t size, double ver
 						if (bad)
 							return corrupt(e, what + ": unparsable number");
 						if (index && (x < 0 || x >= double(verticesSoFar)))
-							return corrupt(e, "face " + num(i) + " uses vertex index " +
-							                      numD(x) + ", outside 0.." +
-							                      num(verticesSoFar - 1));
+							return corrupt(e, "face " + num(i) + " uses vertex index " + numD(x) +
+							                      ", outside 0.." + num(verticesSoFar - 1));
 					}
 				}
 			}
@@ -1300,7 +1343,8 @@ inline bool readAsciiStl(std::vector<float> &xyz, FILE *f, uint64_t size, double
 	xyz.clear();
 	auto expect = [&](const char *word) {
 		if (!in.next(w))
-			return corrupt(e, "truncated: the file ends in facet " + num((long long)xyz.size() / 9));
+			return corrupt(e,
+			               "truncated: the file ends in facet " + num((long long)xyz.size() / 9));
 		if (!sameWord(w, word))
 			return corrupt(e, "line " + num(in.line()) + ": expected '" + word + "', found " +
 			                      quote(w.data(), w.data() + w.size()));
@@ -1308,10 +1352,11 @@ inline bool readAsciiStl(std::vector<float> &xyz, FILE *f, uint64_t size, double
 	};
 	auto number = [&](float &x) {
 		if (!in.next(w))
-			return corrupt(e, "truncated: the file ends in facet " + num((long long)xyz.size() / 9));
+			return corrupt(e,
+			               "truncated: the file ends in facet " + num((long long)xyz.size() / 9));
 		if (!parseNumber(w.data(), w.data() + w.size()))
-			return corrupt(e, "line " + num(in.line()) + ": " + quote(w.data(), w.data() + w.size()) +
-			                      " is not a number");
+			return corrupt(e, "line " + num(in.line()) + ": " +
+			                      quote(w.data(), w.data() + w.size()) + " is not a number");
 		x = std::strtof(w.c_str(), nullptr);
 		return true;
 	};
@@ -1346,7 +1391,8 @@ inline bool readAsciiStl(std::vector<float> &xyz, FILE *f, uint64_t size, double
 			if (!expect("endloop") || !expect("endfacet"))
 				return false;
 		} else {
-			return corrupt(e, "line " + num(in.line()) + ": expected 'facet' or 'endsolid', found " +
+			return corrupt(e, "line " + num(in.line()) +
+			                      ": expected 'facet' or 'endsolid', found " +
 			                      quote(w.data(), w.data() + w.size()));
 		}
 	}
@@ -1431,11 +1477,11 @@ private:
 struct CheckedFile {
 	Format format = Format::Unknown;
 	FileFacts facts;
-	std::vector<float> stl;          ///< STL: the triangles' corners, read here
-	ObjScan obj;                     ///< OBJ: its triangles as the scan read them
+	std::vector<float> stl;           ///< STL: the triangles' corners, read here
+	ObjScan obj;                      ///< OBJ: its triangles as the scan read them
 	std::unique_ptr<InFolder> folder; ///< OBJ: read from its own folder
-	std::string vcgPath;             ///< the name VCG opens
-	SimplePly ply;                   ///< PLY: where the fast path reads the body (ply.ok)
+	std::string vcgPath;              ///< the name VCG opens
+	SimplePly ply;                    ///< PLY: where the fast path reads the body (ply.ok)
 };
 
 /// Everything before VCG reads the body: stat, sniffing, the guards of the format (see the top of
@@ -1447,12 +1493,12 @@ bool checkFile(const std::string &path, double vb, double fb, CheckedFile &c, Re
 {
 	struct stat st;
 	if (::stat(path.c_str(), &st) != 0)
-		return fail(e, ReadStatus::CannotOpen, errno == ENOENT ? "no such file"
-		                                                       : std::strerror(errno));
+		return fail(e, ReadStatus::CannotOpen,
+		            errno == ENOENT ? "no such file" : std::strerror(errno));
 	if (!S_ISREG(st.st_mode))
-		return fail(e, ReadStatus::CannotOpen, S_ISDIR(st.st_mode)
-		                                           ? "not a regular file (a directory)"
-		                                           : "not a regular file (a device, pipe or socket)");
+		return fail(e, ReadStatus::CannotOpen,
+		            S_ISDIR(st.st_mode) ? "not a regular file (a directory)"
+		                                : "not a regular file (a device, pipe or socket)");
 	File file(path);
 	if (!file.f)
 		return fail(e, ReadStatus::CannotOpen, std::string("cannot open: ") + std::strerror(errno));
@@ -1471,12 +1517,16 @@ bool checkFile(const std::string &path, double vb, double fb, CheckedFile &c, Re
 	std::rewind(file.f);
 
 	const std::string ext = lowerExtension(path);
-	const Format named = ext == "ply" ? Format::Ply : ext == "obj" ? Format::Obj
-	                     : ext == "off" ? Format::Off : ext == "stl" ? Format::Stl : Format::Unknown;
+	const Format named = ext == "ply"   ? Format::Ply
+	                     : ext == "obj" ? Format::Obj
+	                     : ext == "off" ? Format::Off
+	                     : ext == "stl" ? Format::Stl
+	                                    : Format::Unknown;
 	uint32_t stlCount = 0;
 	if (n >= 84)
 		stlCount = uint32_t((unsigned char)head[80]) | uint32_t((unsigned char)head[81]) << 8 |
-		           uint32_t((unsigned char)head[82]) << 16 | uint32_t((unsigned char)head[83]) << 24;
+		           uint32_t((unsigned char)head[82]) << 16 |
+		           uint32_t((unsigned char)head[83]) << 24;
 	const bool binaryStl = named == Format::Stl && size >= 84 && size == 84 + 50ull * stlCount;
 	const Format content = binaryStl ? Format::Stl : sniff(head, n);
 	if (named == Format::Unknown) {
@@ -1484,13 +1534,14 @@ bool checkFile(const std::string &path, double vb, double fb, CheckedFile &c, Re
 		                            ? std::string()
 		                            : "the file is " + withArticle(content) + " file but ";
 		return fail(e, ReadStatus::WrongFormat,
-		            has + (ext.empty() ? "its name has no extension"
-		                               : "its name ends in ." + ext + ", not a known extension") +
+		            has +
+		                (ext.empty() ? "its name has no extension"
+		                             : "its name ends in ." + ext + ", not a known extension") +
 		                " (.ply .obj .off .stl)");
 	}
 	if (content != Format::Unknown && content != named)
-		return fail(e, ReadStatus::WrongFormat, "the file is " + withArticle(content) +
-		                                            " file but its name ends in ." + ext);
+		return fail(e, ReadStatus::WrongFormat,
+		            "the file is " + withArticle(content) + " file but its name ends in ." + ext);
 	const bool text = std::memchr(head, 0, n) == nullptr;
 
 	using vcg::tri::io::Mask;
@@ -1575,8 +1626,9 @@ inline bool readSimplePlyFlat(CheckedFile &c, FlatRead &out, ReadError &e, ReadI
 	    }))
 		return changed();
 	int32_t *t = out.triangles.data();
-	if (!readPlyTriangles(file.f, sp, buf,
-	                      [&](size_t face, int k, uint32_t v) { t[3 * face + size_t(k)] = int32_t(v); }))
+	if (!readPlyTriangles(file.f, sp, buf, [&](size_t face, int k, uint32_t v) {
+		    t[3 * face + size_t(k)] = int32_t(v);
+	    }))
 		return changed();
 	out.used = true;
 	if (info) {
@@ -1627,13 +1679,11 @@ bool readChecked(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info)
 		std::vector<float>().swap(c.stl);
 		mask = c.facts.mask;
 	} else if (c.format == Format::Ply && c.ply.ok) {
-		// what ImporterPLY::Open builds from such a file (import_ply.h:670-690, 755-860, 1020-1070),
-		// read again in batches straight into the mesh (checkPly checked the faces)
+		// what ImporterPLY::Open builds from such a file (import_ply.h:670-690, 755-860,
+		// 1020-1070), read again in batches straight into the mesh (checkPly checked the faces)
 		const SimplePly &sp = c.ply;
 		File file(path);
-		auto changed = [&] {
-			return corrupt(e, "PLY: the file changed while it was read");
-		};
+		auto changed = [&] { return corrupt(e, "PLY: the file changed while it was read"); };
 		if (!file.f || std::fseek(file.f, long(sp.offset), SEEK_SET) != 0)
 			return changed();
 		// (the colour as Open reads it when the mesh type has one: alpha 255 unless the file
@@ -1642,14 +1692,14 @@ bool readChecked(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info)
 		std::vector<unsigned char> buf;
 		if (sp.vertices) {
 			vcg::tri::Allocator<MeshT>::AddVertices(m, sp.vertices);
-			if (!readPlyVertices(file.f, sp, buf,
-			                     [&](size_t v, const float *xyz, const unsigned char *r) {
-				                     auto &vert = m.vert[v];
-				                     vert.P() = typename MeshT::CoordType(xyz[0], xyz[1], xyz[2]);
-				                     if (colour) // (HasPerVertexColor: a type without never gets here)
-					                     vert.C() = vcg::Color4b(r[12], r[13], r[14],
-					                                             sp.colour == 4 ? r[15] : 255);
-			                     }))
+			if (!readPlyVertices(
+			        file.f, sp, buf, [&](size_t v, const float *xyz, const unsigned char *r) {
+				        auto &vert = m.vert[v];
+				        vert.P() = typename MeshT::CoordType(xyz[0], xyz[1], xyz[2]);
+				        if (colour) // (HasPerVertexColor: a type without never gets here)
+					        vert.C() =
+					            vcg::Color4b(r[12], r[13], r[14], sp.colour == 4 ? r[15] : 255);
+			        }))
 				return changed();
 		}
 		if (sp.faces) {
@@ -1751,13 +1801,12 @@ bool readChecked(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info)
 			    std::find(missing.begin(), missing.end(), u) == missing.end())
 				missing.push_back(u);
 		for (size_t i = 0; i < missing.size() && i < 3; ++i)
-			info->notes.push_back("material " + quote(missing[i].data(),
-			                                          missing[i].data() + missing[i].size()) +
+			info->notes.push_back("material " +
+			                      quote(missing[i].data(), missing[i].data() + missing[i].size()) +
 			                      " is used but no material file defines it (its faces take the "
 			                      "default material)");
 		if (missing.size() > 3)
-			info->notes.push_back(num((long long)missing.size() - 3) +
-			                      " more undefined materials");
+			info->notes.push_back(num((long long)missing.size() - 3) + " more undefined materials");
 	}
 	if (info) {
 		info->fastPly = fastPly;

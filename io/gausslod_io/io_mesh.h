@@ -14,7 +14,8 @@ namespace gausslod {
 
 class IoVertex;
 class IoFace;
-struct IoUsedTypes : public vcg::UsedTypes<vcg::Use<IoVertex>::AsVertexType, vcg::Use<IoFace>::AsFaceType> {};
+struct IoUsedTypes
+    : public vcg::UsedTypes<vcg::Use<IoVertex>::AsVertexType, vcg::Use<IoFace>::AsFaceType> {};
 class IoVertex : public vcg::Vertex<IoUsedTypes, vcg::vertex::Coord3f, vcg::vertex::Normal3f,
                                     vcg::vertex::Color4b, vcg::vertex::BitFlags> {};
 class IoFace : public vcg::Face<IoUsedTypes, vcg::face::VertexRef, vcg::face::Normal3f,

@@ -177,22 +177,22 @@ void settleUnusedVertexTexCoords(MeshT &m, int mask)
 /// Expand once, at namespace scope, before the first use of ImporterOBJ<MeshT> in a translation
 /// unit. The specialization is inline: build the code that uses it with hidden visibility, so that
 /// no other module's copy of the defective function can be bound in its place.
-#define GAUSSLOD_FIX_VCG_OBJ_INDICES(MeshT)                                                       \
-	namespace vcg {                                                                           \
-	namespace tri {                                                                           \
-	namespace io {                                                                            \
-	template <>                                                                               \
-	inline bool ImporterOBJ<MeshT>::GoodObjIndex(int &index, const int maxVal)                \
-	{                                                                                         \
-		return gausslod::obj::resolveIndex(index, maxVal);                                \
-	}                                                                                         \
-	}                                                                                         \
-	}                                                                                         \
-	}                                                                                         \
-	namespace gausslod {                                                                      \
-	namespace obj {                                                                           \
-	template <>                                                                               \
-	struct IndexFixFor<MeshT> : std::true_type {                                              \
-	};                                                                                        \
-	}                                                                                         \
+#define GAUSSLOD_FIX_VCG_OBJ_INDICES(MeshT)                                                        \
+	namespace vcg {                                                                                \
+	namespace tri {                                                                                \
+	namespace io {                                                                                 \
+	template <>                                                                                    \
+	inline bool ImporterOBJ<MeshT>::GoodObjIndex(int &index, const int maxVal)                     \
+	{                                                                                              \
+		return gausslod::obj::resolveIndex(index, maxVal);                                         \
+	}                                                                                              \
+	}                                                                                              \
+	}                                                                                              \
+	}                                                                                              \
+	namespace gausslod {                                                                           \
+	namespace obj {                                                                                \
+	template <>                                                                                    \
+	struct IndexFixFor<MeshT> : std::true_type {                                                   \
+	};                                                                                             \
+	}                                                                                              \
 	}

@@ -46,8 +46,9 @@ void expectSourcesAndKeys(const FlatMesh &m, const Result &r, const std::vector<
 			const int32_t src = lm.sourceCorner[c], sf = lm.superface[c / 3];
 			const double *a = &lm.positions[3 * size_t(lm.triangles[c])];
 			const double *b = &m.positions[3 * size_t(m.triangles[size_t(src)])];
-			const double d = std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-			                           (a[2] - b[2]) * (a[2] - b[2]));
+			const double d =
+			    std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+			              (a[2] - b[2]) * (a[2] - b[2]));
 			moved += d > 0;
 			// (a level continued by collapses, DESIGN 51: the corner's face has the key of the
 			// triangle's face; else it is a face of the triangle's superface)
@@ -237,7 +238,8 @@ double measuredTexError(const FlatMesh &m, const std::vector<float> &uv, const L
 		double at[2];
 		if (!levelUV(lm, uv, p[0], p[1], at))
 			return HUGE_VAL;
-		worst = std::max(worst, std::hypot(at[0] - double(uv[2 * c]), at[1] - double(uv[2 * c + 1])));
+		worst =
+		    std::max(worst, std::hypot(at[0] - double(uv[2 * c]), at[1] - double(uv[2 * c + 1])));
 	}
 	return worst;
 }
@@ -307,7 +309,7 @@ TEST(Attributes, texture_stretch_is_bounded_by_the_limit_at_every_level)
 	const Result r = buildLevels(v, off);
 	ASSERT_TRUE(r.ok) << r.error;
 	EXPECT_EQ(r.levels.back().stats.faces, 2u);
-	EXPECT_LT(r.levels.back().stats.maxTexError, 0.0); // (not measured)
+	EXPECT_LT(r.levels.back().stats.maxTexError, 0.0);              // (not measured)
 	EXPECT_GT(measuredTexError(m, uv, r.levels.back()), 1.0 / 256); // (the test can fail)
 }
 

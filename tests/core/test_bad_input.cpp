@@ -41,7 +41,8 @@ void append(FlatMesh &m, const FlatMesh &o, double dx = 0)
 FlatMesh tetrahedra(int count)
 {
 	FlatMesh m;
-	const FlatMesh t = tri({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3});
+	const FlatMesh t =
+	    tri({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3});
 	for (int i = 0; i < count; ++i)
 		append(m, t, 2.0 * i);
 	return m;
@@ -80,8 +81,16 @@ const std::vector<Case> &corpus()
 {
 	static const std::vector<Case> cases = {
 	    {"empty mesh", [] { return FlatMesh(); }, "no faces"},
-	    {"points only", [] { return tri({0, 0, 0, 1, 0, 0, 0, 1, 0}, {}); }, "no faces"},
-	    {"single triangle", [] { return tri({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2}); }, nullptr},
+	    {"points only",
+	     [] {
+		     return tri({0, 0, 0, 1, 0, 0, 0, 1, 0}, {});
+	     },
+	     "no faces"},
+	    {"single triangle",
+	     [] {
+		     return tri({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2});
+	     },
+	     nullptr},
 	    {"zero-area and collinear triangles",
 	     [] {
 		     FlatMesh m = gridWithHole(6, 0, 0);
@@ -143,8 +152,7 @@ const std::vector<Case> &corpus()
 		     return m;
 	     },
 	     nullptr},
-	    {"coordinates around 1e-9",
-	     [] { return gridCube(10, 1e-9, 1e-14, 9); }, nullptr},
+	    {"coordinates around 1e-9", [] { return gridCube(10, 1e-9, 1e-14, 9); }, nullptr},
 	    {"non-manifold edges (three faces on an edge)",
 	     [] {
 		     FlatMesh m = gridWithHole(4, 0, 0);
@@ -179,11 +187,13 @@ const std::vector<Case> &corpus()
 	    {"Moebius strip", [] { return moebius(60); }, nullptr},
 	    {"open mesh with many holes",
 	     [] {
-		     FlatMesh m = gridMesh(40, [](double x, double y) { return 0.1 * std::sin(6 * x) * std::cos(5 * y); });
+		     FlatMesh m = gridMesh(
+		         40, [](double x, double y) { return 0.1 * std::sin(6 * x) * std::cos(5 * y); });
 		     std::vector<int32_t> kept;
 		     for (size_t f = 0; f < m.triangles.size() / 3; ++f)
 			     if (f % 37 != 5)
-				     kept.insert(kept.end(), m.triangles.begin() + 3 * f, m.triangles.begin() + 3 * f + 3);
+				     kept.insert(kept.end(), m.triangles.begin() + 3 * f,
+				                 m.triangles.begin() + 3 * f + 3);
 		     m.triangles = kept;
 		     return m;
 	     },
@@ -207,9 +217,11 @@ const std::vector<Case> &corpus()
 	     [] {
 		     FlatMesh m;
 		     for (int i = 0; i <= 2000; ++i)
-			     m.positions.insert(m.positions.end(), {double(i), 0, 0, double(i), 1e-6, 1e-7 * (i % 3)});
+			     m.positions.insert(m.positions.end(),
+			                        {double(i), 0, 0, double(i), 1e-6, 1e-7 * (i % 3)});
 		     for (int32_t i = 0; i < 2000; ++i)
-			     m.triangles.insert(m.triangles.end(), {2 * i, 2 * i + 2, 2 * i + 1, 2 * i + 1, 2 * i + 2, 2 * i + 3});
+			     m.triangles.insert(m.triangles.end(),
+			                        {2 * i, 2 * i + 2, 2 * i + 1, 2 * i + 1, 2 * i + 2, 2 * i + 3});
 		     return m;
 	     },
 	     nullptr},
@@ -253,7 +265,7 @@ TEST(BadInput, every_case_gives_its_expected_error_or_valid_levels)
 			SCOPED_TRACE("level " + std::to_string(lm.stats.level));
 			const TopoFacts f = topoFacts(lm.positions, lm.triangles);
 			EXPECT_GT(f.faces, 0u);
-			EXPECT_EQ(f.duplicateFaces, 0u);                 // duplicates of the input are dropped
+			EXPECT_EQ(f.duplicateFaces, 0u); // duplicates of the input are dropped
 			EXPECT_LE(f.degenerateFaces, inF.degenerateFaces); // zero-area input faces are kept
 			EXPECT_LE(f.nonManifoldEdges, inF.nonManifoldEdges);
 			EXPECT_LE(f.nonManifoldVertices, inF.nonManifoldVertices + inF.nonManifoldEdges);
@@ -283,18 +295,21 @@ TEST(BadInput, bad_parameters_give_a_clear_error)
 	};
 	EXPECT_NE(err([](Params &p) { p.maxLevel = 9; }).find("levels"), std::string::npos);
 	EXPECT_NE(err([](Params &p) { p.featureAngle = 0; }).find("featureAngle"), std::string::npos);
-	EXPECT_NE(err([](Params &p) { p.straightenTol = -1; }).find("straightening"), std::string::npos);
+	EXPECT_NE(err([](Params &p) { p.straightenTol = -1; }).find("straightening"),
+	          std::string::npos);
 	EXPECT_NE(err([](Params &p) { p.mergeDist = NAN; }).find("merge"), std::string::npos);
 	EXPECT_NE(err([](Params &p) { p.normalLimit = -2; }).find("deviation"), std::string::npos);
 	EXPECT_NE(err([](Params &p) { p.maxDistance = -1; }).find("maxDistance"), std::string::npos);
-	EXPECT_NE(err([](Params &p) { p.maxDistance = INFINITY; }).find("maxDistance"), std::string::npos);
+	EXPECT_NE(err([](Params &p) { p.maxDistance = INFINITY; }).find("maxDistance"),
+	          std::string::npos);
 }
 
 TEST(BadInput, progress_callback_can_cancel)
 {
 	const FlatMesh m = gridCube(8);
 	int calls = 0;
-	const Result r = buildLevels(m.view(), Params(), [&](double, const char *) { return ++calls < 3; });
+	const Result r =
+	    buildLevels(m.view(), Params(), [&](double, const char *) { return ++calls < 3; });
 	EXPECT_FALSE(r.ok);
 	EXPECT_EQ(r.error, "cancelled");
 	EXPECT_TRUE(r.levels.empty());
@@ -308,7 +323,8 @@ size_t openOrBadEdges(const std::vector<int32_t> &t)
 	e.reserve(t.size());
 	for (size_t i = 0; i < t.size(); ++i) {
 		const int32_t a = t[i], b = t[i - i % 3 + (i % 3 + 1) % 3];
-		e.emplace_back((uint64_t(uint32_t(std::min(a, b))) << 32) | uint32_t(std::max(a, b)), a < b);
+		e.emplace_back((uint64_t(uint32_t(std::min(a, b))) << 32) | uint32_t(std::max(a, b)),
+		               a < b);
 	}
 	std::sort(e.begin(), e.end());
 	size_t bad = 0;
@@ -332,16 +348,20 @@ TEST(BadInput, a_2M_triangle_closed_mesh_gives_closed_levels)
 		for (int i = 0; i < nu; ++i) {
 			const double th = M_PI * j / nv, ph = 2 * M_PI * i / nu;
 			const double r = 1 + 0.05 * std::sin(5 * ph) * std::sin(4 * th);
-			m.positions.insert(m.positions.end(), {r * std::sin(th) * std::cos(ph), r * std::sin(th) * std::sin(ph), r * std::cos(th)});
+			m.positions.insert(m.positions.end(),
+			                   {r * std::sin(th) * std::cos(ph), r * std::sin(th) * std::sin(ph),
+			                    r * std::cos(th)});
 		}
 	const int32_t top = int32_t(m.positions.size() / 3), bottom = top + 1;
 	m.positions.insert(m.positions.end(), {0, 0, 1, 0, 0, -1});
 	auto id = [&](int j, int i) { return int32_t((j - 1) * nu + (i % nu)); };
 	for (int j = 1; j < nv - 1; ++j)
 		for (int i = 0; i < nu; ++i)
-			m.triangles.insert(m.triangles.end(), {id(j, i), id(j + 1, i), id(j + 1, i + 1), id(j, i), id(j + 1, i + 1), id(j, i + 1)});
+			m.triangles.insert(m.triangles.end(), {id(j, i), id(j + 1, i), id(j + 1, i + 1),
+			                                       id(j, i), id(j + 1, i + 1), id(j, i + 1)});
 	for (int i = 0; i < nu; ++i)
-		m.triangles.insert(m.triangles.end(), {top, id(1, i), id(1, i + 1), bottom, id(nv - 1, i + 1), id(nv - 1, i)});
+		m.triangles.insert(m.triangles.end(),
+		                   {top, id(1, i), id(1, i + 1), bottom, id(nv - 1, i + 1), id(nv - 1, i)});
 	ASSERT_GE(m.triangles.size() / 3, 2000000u);
 	ASSERT_EQ(openOrBadEdges(m.triangles), 0u);
 	Params p;

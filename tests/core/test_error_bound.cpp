@@ -405,7 +405,8 @@ TEST(ErrorBound, collapsed_levels_keep_the_superface_levels_counts_and_bounds)
 {
 	size_t collapsed = 0, levels = 0;
 	double worst = 0;
-	for (const char *name : {"cow.off", "bunny00.off", "camel.off", "elephant.off", "fandisk.off"}) {
+	for (const char *name :
+	     {"cow.off", "bunny00.off", "camel.off", "elephant.off", "fandisk.off"}) {
 		SCOPED_TRACE(name);
 		const FlatMesh m = loadOff(name);
 		Params off = superfaceParams();

@@ -50,7 +50,8 @@ std::vector<double> triangleCoordinates(const LevelMesh &lm)
 {
 	std::vector<double> c;
 	for (const int32_t v : lm.triangles)
-		c.insert(c.end(), lm.positions.begin() + long(3 * v), lm.positions.begin() + long(3 * v + 3));
+		c.insert(c.end(), lm.positions.begin() + long(3 * v),
+		         lm.positions.begin() + long(3 * v + 3));
 	return c;
 }
 
@@ -157,7 +158,7 @@ TEST(InputRepair, closed_shells_that_touch_are_not_welded)
 	const size_t nv = m.positions.size() / 3, nf = m.triangles.size() / 3;
 	for (size_t v = 0; v < nv; ++v)
 		m.positions.insert(m.positions.end(), {m.positions[3 * v] + 1, m.positions[3 * v + 1],
-		                                      m.positions[3 * v + 2]});
+		                                       m.positions[3 * v + 2]});
 	for (size_t c = 0; c < 3 * nf; ++c)
 		m.triangles.push_back(m.triangles[c] + int32_t(nv));
 	ASSERT_TRUE(topoFacts(m.positions, m.triangles).closedManifold());
@@ -167,7 +168,8 @@ TEST(InputRepair, closed_shells_that_touch_are_not_welded)
 	EXPECT_EQ(r.input.verticesLocked, 0u);
 	for (const LevelMesh &lm : r.levels) {
 		EXPECT_EQ(lm.stats.faces, 24u) << "level " << lm.stats.level; // 12 + 12: two exact cubes
-		EXPECT_TRUE(topoFacts(lm.positions, lm.triangles).closedManifold()) << "level " << lm.stats.level;
+		EXPECT_TRUE(topoFacts(lm.positions, lm.triangles).closedManifold())
+		    << "level " << lm.stats.level;
 	}
 	// the same faces as a soup are welded (every vertex is on an edge one face uses), as MeshLab
 	// does to an STL file: there the two cubes become one mesh
@@ -231,7 +233,7 @@ TEST(InputRepair, skipped_degenerate_and_locked_faces_are_counted)
 	m.triangles.insert(m.triangles.end(), {int32_t(n), int32_t(n + 1), int32_t(n + 2)});
 	const Result r = buildLevels(m.view(), exactParams());
 	ASSERT_TRUE(r.ok) << r.error;
-	EXPECT_EQ(r.input.weldedVertices, 1u);  // n+1 onto n
+	EXPECT_EQ(r.input.weldedVertices, 1u); // n+1 onto n
 	EXPECT_EQ(r.input.facesReindexed, 1u);
 	EXPECT_EQ(r.input.facesRepeatedVertex, 2u); // the face with a repeat, and n, n, n+2 once welded
 	EXPECT_EQ(r.input.facesDuplicate, 1u);

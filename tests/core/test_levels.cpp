@@ -299,7 +299,7 @@ TEST(Levels, papers_experiment_cow_and_dino_at_max_level_5)
 	for (const char *name : {"cow.off", "dino.off"}) {
 		const FlatMesh m = loadOff(name);
 		for (const bool across : {false, true}) {
-			Params p;      // (the defaults: merging across cells, the distance tolerance, real steps)
+			Params p; // (the defaults: merging across cells, the distance tolerance, real steps)
 			if (!across) { // the paper's mode (gausslod_paper.mlx): its superfaces, normals only
 				p.acrossCells = false;
 				p.maxDistance = 0;
@@ -440,7 +440,7 @@ TEST(Levels, a_level_whose_finer_level_is_carried_whole_is_that_level_as_built)
 		                   : name == "annulus" ? flatAnnulus(110, 6)
 		                                       : weldedCopy(loadOff(name));
 		Params prm = superfaceParams(); // (the superface levels, built below as the chain)
-		prm.coplanarFirst = false; // (the chain below is built on the input's faces)
+		prm.coplanarFirst = false;      // (the chain below is built on the input's faces)
 		const Result r = buildLevels(m.view(), prm);
 		ASSERT_TRUE(r.ok) << r.error;
 		ASSERT_EQ(r.levels.size(), size_t(prm.maxLevel));

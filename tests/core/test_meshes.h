@@ -13,11 +13,11 @@
 #include <array>
 #include <functional>
 #include <map>
-#include <tuple>
-#include <unordered_map>
 #include <random>
 #include <set>
 #include <string>
+#include <tuple>
+#include <unordered_map>
 #include <vector>
 
 namespace testmesh {
@@ -337,7 +337,8 @@ public:
 			Vec3 lo = corner(f, 0), hi = lo;
 			for (int k = 1; k < 3; ++k)
 				for (int j = 0; j < 3; ++j)
-					lo[j] = std::min(lo[j], corner(f, k)[j]), hi[j] = std::max(hi[j], corner(f, k)[j]);
+					lo[j] = std::min(lo[j], corner(f, k)[j]),
+					hi[j] = std::max(hi[j], corner(f, k)[j]);
 			for (long z = idx(lo[2]); z <= idx(hi[2]); ++z)
 				for (long y = idx(lo[1]); y <= idx(hi[1]); ++y)
 					for (long x = idx(lo[0]); x <= idx(hi[0]); ++x)
@@ -389,7 +390,10 @@ private:
 		}
 	};
 	std::unordered_map<std::tuple<long, long, long>, std::vector<size_t>, KeyHash> cells_;
-	Vec3 corner(size_t f, int k) const { return vpos(m_.positions, m_.triangles[3 * f + size_t(k)]); }
+	Vec3 corner(size_t f, int k) const
+	{
+		return vpos(m_.positions, m_.triangles[3 * f + size_t(k)]);
+	}
 	long idx(double x) const { return long(std::floor(x / cell_)); }
 	static std::tuple<long, long, long> key(long x, long y, long z) { return {x, y, z}; }
 };

@@ -157,8 +157,8 @@ TEST(Quality, the_default_tolerance_grows_by_level_and_coarser_levels_stay_coars
 			EXPECT_LE(lm.stats.distanceBound, 4 * tol);
 			// (the tolerance is the superface build's check; a level made by collapses of the
 			// finer level, DESIGN 50, keeps the superface level's bound instead)
-			EXPECT_EQ(verticesBeyond(m, lm, (lm.stats.collapses ? lm.stats.distanceBound : tol) *
-			                                    (1 + 1e-6)),
+			EXPECT_EQ(verticesBeyond(
+			              m, lm, (lm.stats.collapses ? lm.stats.distanceBound : tol) * (1 + 1e-6)),
 			          0u);
 			EXPECT_LE(lm.stats.faces, finer);
 			finer = lm.stats.faces;

@@ -38,8 +38,8 @@ TexturedSphere texturedSphere(int nu, int nv)
 	for (int j = 1; j < nv; ++j)
 		for (int i = 0; i < nu; ++i) {
 			const double th = M_PI * j / nv, ph = 2 * M_PI * i / nu;
-			m.positions.insert(m.positions.end(),
-			                   {std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)});
+			m.positions.insert(m.positions.end(), {std::sin(th) * std::cos(ph),
+			                                       std::sin(th) * std::sin(ph), std::cos(th)});
 		}
 	const int32_t top = int32_t(m.positions.size() / 3), bottom = top + 1;
 	m.positions.insert(m.positions.end(), {0, 0, 1, 0, 0, -1});
@@ -53,7 +53,8 @@ TexturedSphere texturedSphere(int nu, int nv)
 		                   {top, id(1, i), id(1, i + 1), bottom, id(nv - 1, i + 1), id(nv - 1, i)});
 	const size_t nF = m.triangles.size() / 3;
 	for (size_t f = 0; f < nF; ++f) {
-		const Vec3 a = vpos(m.positions, m.triangles[3 * f]), b = vpos(m.positions, m.triangles[3 * f + 1]),
+		const Vec3 a = vpos(m.positions, m.triangles[3 * f]),
+		           b = vpos(m.positions, m.triangles[3 * f + 1]),
 		           c = vpos(m.positions, m.triangles[3 * f + 2]);
 		const Vec3 n = (b - a) ^ (c - a);
 		int axis = 0;

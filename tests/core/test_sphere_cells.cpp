@@ -24,7 +24,8 @@ TEST(SphereCells, axis_normals_land_in_the_center_cell_of_their_cube_face)
 {
 	for (int level = 0; level <= kMaxCellLevel; ++level) {
 		const int mid = meshNum(level) / 2;
-		const double axes[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+		const double axes[6][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+		                           {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
 		for (int f = 0; f < 6; ++f) {
 			const Cell c = cellOf(axes[f][0], axes[f][1], axes[f][2], level);
 			EXPECT_EQ(c.face, f);
@@ -125,7 +126,8 @@ TEST(SphereCells, neighbour_cells_are_adjacent_on_the_sphere)
 					const int n = cellNeighbours(Cell{f, i, j}, level, nb);
 					for (int k = 0; k < n; ++k) {
 						cellCenter(nb[k], level, b);
-						const double d = std::acos(std::min(1.0, a[0] * b[0] + a[1] * b[1] + a[2] * b[2]));
+						const double d =
+						    std::acos(std::min(1.0, a[0] * b[0] + a[1] * b[1] + a[2] * b[2]));
 						EXPECT_LT(d * 180 / M_PI, limit);
 					}
 				}

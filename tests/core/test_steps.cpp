@@ -8,9 +8,9 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <thread>
 #include <cmath>
 #include <cstdio>
+#include <thread>
 
 using namespace gausslod;
 using namespace testmesh;
@@ -31,7 +31,7 @@ FlatMesh grid(int cells, PointFn point)
 	auto id = [&](int x, int y) { return int32_t(y * (cells + 1) + x); };
 	for (int y = 0; y < cells; ++y)
 		for (int x = 0; x < cells; ++x) {
-			const int32_t t[6] = {id(x, y), id(x + 1, y), id(x + 1, y + 1),
+			const int32_t t[6] = {id(x, y), id(x + 1, y),     id(x + 1, y + 1),
 			                      id(x, y), id(x + 1, y + 1), id(x, y + 1)};
 			m.triangles.insert(m.triangles.end(), t, t + 6);
 		}
@@ -79,7 +79,9 @@ TEST(VertexClasses, cube_corners_are_corners_edges_are_edges_faces_are_flat)
 		int extremes = 0;
 		for (int k = 0; k < 3; ++k)
 			extremes += (p[k] == 0.0 || p[k] == 1.0);
-		const uint8_t expected = extremes == 3 ? detail::kCorner : extremes == 2 ? detail::kEdge : detail::kFlat;
+		const uint8_t expected = extremes == 3   ? detail::kCorner
+		                         : extremes == 2 ? detail::kEdge
+		                                         : detail::kFlat;
 		EXPECT_EQ(t.vertexClass[v], expected) << p[0] << " " << p[1] << " " << p[2];
 		++counts[t.vertexClass[v]];
 	}
@@ -100,7 +102,8 @@ TEST(Hierarchy, a_noisy_45_degree_chamfer_merges_across_the_cube_edge_of_the_gau
 	ASSERT_TRUE(r.ok) << r.error;
 	std::set<int> cubeFaces;
 	for (size_t f = 0; f < m.triangles.size() / 3; ++f) {
-		const Vec3 a = vpos(m.positions, m.triangles[3 * f]), b = vpos(m.positions, m.triangles[3 * f + 1]),
+		const Vec3 a = vpos(m.positions, m.triangles[3 * f]),
+		           b = vpos(m.positions, m.triangles[3 * f + 1]),
 		           c = vpos(m.positions, m.triangles[3 * f + 2]);
 		const Vec3 n = (b - a) ^ (c - a);
 		const double nn[3] = {n[0], n[1], n[2]};
@@ -198,7 +201,8 @@ double trianglesArea(const detail::TriangulationJob &job)
 {
 	double area = 0;
 	for (size_t k = 0; k < job.tris.size(); k += 3) {
-		const double *a = &job.xy[2 * size_t(job.tris[k])], *b = &job.xy[2 * size_t(job.tris[k + 1])],
+		const double *a = &job.xy[2 * size_t(job.tris[k])],
+		             *b = &job.xy[2 * size_t(job.tris[k + 1])],
 		             *c = &job.xy[2 * size_t(job.tris[k + 2])];
 		area += 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
 	}
@@ -298,9 +302,12 @@ TEST(Retriangulation, the_small_ring_path_answers_as_cgal_does_or_leaves_the_rin
 			double u = rnd(), v = rnd();
 			if (u + v > 1)
 				u = 1 - u, v = 1 - v;
-			double x = u * job.xy[2 * i] + v * job.xy[2 * j], y = u * job.xy[2 * i + 1] + v * job.xy[2 * j + 1];
-			if (withOutside && q % 8 == 7) { // just beyond the edge (a face a straightened border cut off)
-				const double dx = job.xy[2 * j] - job.xy[2 * i], dy = job.xy[2 * j + 1] - job.xy[2 * i + 1];
+			double x = u * job.xy[2 * i] + v * job.xy[2 * j],
+			       y = u * job.xy[2 * i + 1] + v * job.xy[2 * j + 1];
+			if (withOutside &&
+			    q % 8 == 7) { // just beyond the edge (a face a straightened border cut off)
+				const double dx = job.xy[2 * j] - job.xy[2 * i],
+				             dy = job.xy[2 * j + 1] - job.xy[2 * i + 1];
 				const double along = 0.3 + 0.4 * rnd();
 				x = job.xy[2 * i] + along * dx + 0.02 * dy;
 				y = job.xy[2 * i + 1] + along * dy - 0.02 * dx;
@@ -315,7 +322,8 @@ TEST(Retriangulation, the_small_ring_path_answers_as_cgal_does_or_leaves_the_rin
 		++answered, ++byKind[kind];
 		plainAnswered += !withOutside && (kind == 0 || kind == 3);
 		ASSERT_TRUE(cgalOk) << "ring " << it;
-		ASSERT_TRUE(asSets(fast) == asSets(cgal)) << "ring " << it << " (" << n << " vertices, kind " << kind << ")";
+		ASSERT_TRUE(asSets(fast) == asSets(cgal))
+		    << "ring " << it << " (" << n << " vertices, kind " << kind << ")";
 		EXPECT_EQ(fast.tris.size(), 3 * (n - 2));
 		for (const int32_t t : fast.queryTri)
 			outsideQueries += t < 0;
@@ -329,9 +337,11 @@ TEST(Retriangulation, the_small_ring_path_answers_as_cgal_does_or_leaves_the_rin
 	// answer depends on its storage: left to it), and some are answered
 	EXPECT_GT(plainAnswered, 900u); // of 1000
 	EXPECT_GT(outsideQueries, 100u);
-	std::printf("small rings answered: %zu of 4000 (random radii %zu, on a circle %zu, on a grid %zu, thin %zu; "
-	            "random radii or thin with inside queries only: %zu of 1000), queries answered -1: %zu\n",
-	            answered, byKind[0], byKind[1], byKind[2], byKind[3], plainAnswered, outsideQueries);
+	std::printf(
+	    "small rings answered: %zu of 4000 (random radii %zu, on a circle %zu, on a grid %zu, thin "
+	    "%zu; "
+	    "random radii or thin with inside queries only: %zu of 1000), queries answered -1: %zu\n",
+	    answered, byKind[0], byKind[1], byKind[2], byKind[3], plainAnswered, outsideQueries);
 
 	// left to CGAL: four cocircular corners (two Delaunay answers), a straight vertex, a
 	// clockwise ring, crossing edges
@@ -420,9 +430,10 @@ double farthestInputVertex(const FlatMesh &in, const LevelMesh &out)
 		const Vec3 p = vpos(in.positions, int32_t(v));
 		double best = HUGE_VAL;
 		for (size_t t = 0; t < out.triangles.size(); t += 3)
-			best = std::min(best, detail::pointTriangleDistance2(p, vpos(out.positions, out.triangles[t]),
-			                                                     vpos(out.positions, out.triangles[t + 1]),
-			                                                     vpos(out.positions, out.triangles[t + 2])));
+			best = std::min(
+			    best, detail::pointTriangleDistance2(p, vpos(out.positions, out.triangles[t]),
+			                                         vpos(out.positions, out.triangles[t + 1]),
+			                                         vpos(out.positions, out.triangles[t + 2])));
 		worst = std::max(worst, best);
 	}
 	return std::sqrt(worst);
@@ -434,7 +445,8 @@ TEST(DistanceTolerance, no_input_vertex_ends_farther_than_the_tolerance_from_any
 {
 	// a paraboloid cap: the coarse levels flatten it by far more than the tolerance unless the
 	// distance tolerance refuses (then splits) the superfaces that would
-	const FlatMesh m = grid(40, [](double x, double y) { return Vec3(x, y, 0.3 * (x * x + y * y)); });
+	const FlatMesh m =
+	    grid(40, [](double x, double y) { return Vec3(x, y, 0.3 * (x * x + y * y)); });
 	const double diag = bboxDiagonal(m.view());
 	Params free = superfaceParams();
 	free.maxDistance = 0; // (the paper: normals only)
@@ -486,7 +498,8 @@ TEST(FaceGrid, a_bucket_cone_says_all_faces_face_a_direction_only_when_they_do)
 		size_t skipped = 0, checked = 0;
 		for (const Vec3 &d : dirs)
 			for (size_t c = 0; c + 1 < g.start.size(); ++c) {
-				if (g.start[c] == g.start[c + 1] || !detail::FaceGrid::allFacing(g.coneOf(c, t.faceNormal), d))
+				if (g.start[c] == g.start[c + 1] ||
+				    !detail::FaceGrid::allFacing(g.coneOf(c, t.faceNormal), d))
 					continue;
 				++skipped;
 				for (int32_t i = g.start[c]; i < g.start[c + 1]; ++i, ++checked)
@@ -503,8 +516,9 @@ TEST(LevelGeometry, every_level_of_a_clean_surface_has_the_faces_eulers_formula_
 	// levelFaceBound (why a level may stop before triangulating: the chain ends it must keep
 	// already need more faces than the finer level has) is exact for the input and for every
 	// level built from it, on Debian's models of several genera, closed and with boundaries
-	const char *models[] = {"fandisk.off",  "double-torus-example.off", "3torus.off",
-	                        "elephant-with-holes.off", "mech-holes-shark.off", "anchor.off"};
+	const char *models[] = {"fandisk.off",          "double-torus-example.off",
+	                        "3torus.off",           "elephant-with-holes.off",
+	                        "mech-holes-shark.off", "anchor.off"};
 	size_t clean = 0;
 	for (const char *name : models) {
 		SCOPED_TRACE(name);
@@ -531,7 +545,8 @@ TEST(LevelGeometry, every_level_of_a_clean_surface_has_the_faces_eulers_formula_
 			std::vector<uint8_t> kept(topo.nV, 0);
 			for (const int32_t v : lm.sourceVertex)
 				kept[size_t(v)] = 1;
-			EXPECT_EQ(detail::levelFaceBound(topo, kept), lm.stats.faces) << "level " << lm.stats.level;
+			EXPECT_EQ(detail::levelFaceBound(topo, kept), lm.stats.faces)
+			    << "level " << lm.stats.level;
 			// a subset of its vertices gives fewer
 			for (size_t v = 0; v < kept.size(); v += 2)
 				kept[v] = 0;
@@ -582,7 +597,8 @@ TEST(FaceGrid, cones_computed_when_asked_by_two_threads_are_the_cones_one_thread
 	// and the cow.
 	for (const char *name : {"fandisk_large.off", "noisy cube", "cow.off"}) {
 		SCOPED_TRACE(name);
-		const FlatMesh m = std::string(name) == "noisy cube" ? gridCube(120, 1.0, 1e-3, 5) : loadOff(name);
+		const FlatMesh m =
+		    std::string(name) == "noisy cube" ? gridCube(120, 1.0, 1e-3, 5) : loadOff(name);
 		detail::Topology one;
 		detail::buildTopology(m.view(), 30.0, one);
 		const size_t buckets = one.grid.cone.size();
@@ -617,14 +633,16 @@ TEST(Hierarchy, a_coarser_partition_known_from_the_finer_level_is_the_one_comput
 	// or merge it must not answer. The grid cube (6 superfaces, 90 degrees apart: it answers at
 	// every level), a noisy cube and fandisk (superfaces that merge: it must refuse there).
 	size_t answered = 0, refused = 0;
-	for (const char *name : {"grid cube", "noisy cube", "fandisk.off", "noisy cube, no merges across cells",
-	                         "fandisk.off, no merges across cells"}) {
+	for (const char *name :
+	     {"grid cube", "noisy cube", "fandisk.off", "noisy cube, no merges across cells",
+	      "fandisk.off, no merges across cells"}) {
 		SCOPED_TRACE(name);
 		Params prm;
 		prm.acrossCells = std::string(name).find(", no merges") == std::string::npos;
 		const std::string n = std::string(name).substr(0, std::string(name).find(','));
-		const FlatMesh m = n == "grid cube" ? gridCube(20) : n == "noisy cube" ? gridCube(20, 1.0, 2e-3, 7)
-		                                                                       : loadOff(n);
+		const FlatMesh m = n == "grid cube"    ? gridCube(20)
+		                   : n == "noisy cube" ? gridCube(20, 1.0, 2e-3, 7)
+		                                       : loadOff(n);
 		detail::Topology t;
 		detail::buildTopology(m.view(), prm.featureAngle, t);
 		const int finest = prm.maxLevel - 1;
@@ -646,8 +664,9 @@ TEST(Hierarchy, a_coarser_partition_known_from_the_finer_level_is_the_one_comput
 			detail::coarserPartition(t, built, computed, int8_t(level - 1));
 			if (prm.acrossCells)
 				detail::mergeAcrossCells(t, across(level - 1), computed);
-			if (!detail::sameCoarserPartition(
-			        built, detail::superfacePairs(lm.triangles, lm.superface), across(level - 1), known)) {
+			if (!detail::sameCoarserPartition(built,
+			                                  detail::superfacePairs(lm.triangles, lm.superface),
+			                                  across(level - 1), known)) {
 				++refused;
 			} else {
 				++answered;

@@ -49,7 +49,10 @@ P3 operator-(P3 a, P3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 P3 operator+(P3 a, P3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 P3 operator*(P3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
 double dot(P3 a, P3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-P3 cross(P3 a, P3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+P3 cross(P3 a, P3 b)
+{
+	return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
 
 double segmentDistance2(P3 p, P3 a, P3 b)
 {
@@ -73,7 +76,8 @@ double triangleDistance2(P3 p, P3 a, P3 b, P3 c)
 			return h * h / n2;
 		}
 	}
-	return std::min({segmentDistance2(p, a, b), segmentDistance2(p, b, c), segmentDistance2(p, c, a)});
+	return std::min(
+	    {segmentDistance2(p, a, b), segmentDistance2(p, b, c), segmentDistance2(p, c, a)});
 }
 
 [[noreturn]] void fail(const char *what)
@@ -154,7 +158,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		// at most the true distance); the input's triangles with a repeated vertex are left out
 		auto farthest = [](const std::vector<double> &P, const std::vector<int32_t> &T,
 		                   const std::vector<double> &toP, const std::vector<int32_t> &toT) {
-			auto repeated = [](const int32_t *t) { return t[0] == t[1] || t[1] == t[2] || t[2] == t[0]; };
+			auto repeated = [](const int32_t *t) {
+				return t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
+			};
 			double worst = 0;
 			for (size_t f = 0; 3 * f + 2 < T.size(); ++f) {
 				if (repeated(&T[3 * f]))
@@ -164,8 +170,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 					const double *q = &P[3 * size_t(T[3 * f + size_t(k)])];
 					c[k] = {q[0], q[1], q[2]};
 				}
-				const P3 samples[7] = {c[0], c[1], c[2], (c[0] + c[1]) * 0.5, (c[1] + c[2]) * 0.5,
-				                       (c[2] + c[0]) * 0.5, (c[0] + c[1] + c[2]) * (1.0 / 3)};
+				const P3 samples[7] = {c[0],
+				                       c[1],
+				                       c[2],
+				                       (c[0] + c[1]) * 0.5,
+				                       (c[1] + c[2]) * 0.5,
+				                       (c[2] + c[0]) * 0.5,
+				                       (c[0] + c[1] + c[2]) * (1.0 / 3)};
 				for (const P3 &s : samples) {
 					double d2 = HUGE_VAL;
 					for (size_t t = 0; 3 * t + 2 < toT.size(); ++t) {
@@ -174,8 +185,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 						const double *a = &toP[3 * size_t(toT[3 * t])],
 						             *b = &toP[3 * size_t(toT[3 * t + 1])],
 						             *e = &toP[3 * size_t(toT[3 * t + 2])];
-						d2 = std::min(d2, triangleDistance2(s, {a[0], a[1], a[2]},
-						                                    {b[0], b[1], b[2]}, {e[0], e[1], e[2]}));
+						d2 =
+						    std::min(d2, triangleDistance2(s, {a[0], a[1], a[2]},
+						                                   {b[0], b[1], b[2]}, {e[0], e[1], e[2]}));
 					}
 					worst = std::max(worst, std::sqrt(d2));
 				}
@@ -189,7 +201,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		if (lm.stats.hausdorff >= 0) {
 			const double inputFar = farthest(pos, tris, lm.positions, lm.triangles);
 			if (std::max(levelFar, inputFar) > lm.stats.hausdorff)
-				fail("a point farther from the other surface than the certified Hausdorff distance");
+				fail(
+				    "a point farther from the other surface than the certified Hausdorff distance");
 			if (!(lm.stats.hausdorffLower <= lm.stats.hausdorff) ||
 			    (lm.stats.hausdorffConverged &&
 			     lm.stats.hausdorff > 1.05 * lm.stats.hausdorffLower * (1 + 1e-6) + 1e-11 * diag))

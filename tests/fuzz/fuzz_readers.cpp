@@ -3,9 +3,9 @@
 // type; a mesh that reads goes through flatten, whose indices must then lie in range. Any crash,
 // leak, hang or sanitizer report is a guard missing in gausslod_io/import_mesh.h. Seeds in
 // tests/fuzz/reader_seeds/, fixed crash inputs in tests/fuzz/reader_regressions/.
+#include "gausslod/vcg_adapter.h"
 #include "gausslod_io/import_mesh.h"
 #include "gausslod_io/io_mesh.h"
-#include "gausslod/vcg_adapter.h"
 
 #include <unistd.h>
 

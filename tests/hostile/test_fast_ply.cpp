@@ -35,7 +35,8 @@
 
 namespace {
 
-void collect(const std::string &dir, std::vector<std::string> &plys, std::vector<std::string> &models)
+void collect(const std::string &dir, std::vector<std::string> &plys,
+             std::vector<std::string> &models)
 {
 	DIR *d = opendir(dir.c_str());
 	if (!d)
@@ -84,8 +85,7 @@ Read readWith(MeshT &m, const std::string &path, bool fast)
 		using V = typename MeshT::VertexType;
 		using F = typename MeshT::FaceType;
 		gausslod::detail::CheckedFile c;
-		return gausslod::detail::checkFile<MeshT>(path, sizeof(V), sizeof(F), c, r.error,
-		                                          false) &&
+		return gausslod::detail::checkFile<MeshT>(path, sizeof(V), sizeof(F), c, r.error, false) &&
 		       gausslod::detail::readChecked(m, c, r.error, &r.info);
 	});
 	return r;
@@ -142,8 +142,9 @@ std::string compare(const std::string &path, bool &tookFast)
 	if (!ra.ok)
 		return "";
 	if (ra.info.mask != rb.info.mask || ra.info.fileMask != rb.info.fileMask)
-		return "load masks " + std::to_string(ra.info.mask) + "/" + std::to_string(ra.info.fileMask) +
-		       " vs " + std::to_string(rb.info.mask) + "/" + std::to_string(rb.info.fileMask);
+		return "load masks " + std::to_string(ra.info.mask) + "/" +
+		       std::to_string(ra.info.fileMask) + " vs " + std::to_string(rb.info.mask) + "/" +
+		       std::to_string(rb.info.fileMask);
 	if (a.vert.size() != b.vert.size() || a.face.size() != b.face.size() || a.vn != b.vn ||
 	    a.fn != b.fn)
 		return "counts " + std::to_string(a.vn) + "/" + std::to_string(a.fn) + " vs " +
@@ -168,9 +169,9 @@ std::string compare(const std::string &path, bool &tookFast)
 	return "";
 }
 
-// "" if the tool's read of `path` (importMeshEither with flat arrays: the fast path's files are read
-// without a VCG mesh) gives the flat arrays gausslod::flatten makes of VCG's own read, and fails
-// alike; `tookFlat`: it read the file into the flat arrays.
+// "" if the tool's read of `path` (importMeshEither with flat arrays: the fast path's files are
+// read without a VCG mesh) gives the flat arrays gausslod::flatten makes of VCG's own read, and
+// fails alike; `tookFlat`: it read the file into the flat arrays.
 std::string compareFlat(const std::string &path, bool &tookFlat, bool &coloured)
 {
 	gausslod::IoMesh lean, vcgRead;
@@ -245,7 +246,8 @@ std::string compareStl(const std::string &path, const std::string &out)
 		return "STL header";
 	for (size_t i = 80; i < a.size(); ++i)
 		if (a[i] != b[i])
-			return "STL byte " + std::to_string(i) + " (face " + std::to_string((i - 84) / 50) + ")";
+			return "STL byte " + std::to_string(i) + " (face " + std::to_string((i - 84) / 50) +
+			       ")";
 	return "";
 }
 
@@ -293,12 +295,19 @@ void writeVariant(const gausslod::IoMesh &m, const std::string &path, const std:
 		h += "property " + f + " " + c + nl;
 	// vertex colours: uchar rgb or rgba (the fast path's), float rgb or a fifth uchar (not)
 	const bool rgb = v == "rgb" || v == "rgba" || v == "rgb_float" || v == "rgba_extra";
-	const int channels = v == "rgb" || v == "rgb_float" ? 3 : v == "rgba" ? 4 : v == "rgba_extra" ? 5 : 0;
+	const int channels = v == "rgb" || v == "rgb_float" ? 3
+	                     : v == "rgba"                  ? 4
+	                     : v == "rgba_extra"            ? 5
+	                                                    : 0;
 	static const char *const colourNames[] = {"red", "green", "blue", "alpha", "extra"};
 	for (int k = 0; k < channels; ++k)
-		h += std::string("property ") + (v == "rgb_float" ? "float " : "uchar ") + colourNames[k] + nl;
+		h += std::string("property ") + (v == "rgb_float" ? "float " : "uchar ") + colourNames[k] +
+		     nl;
 	h += "element face " + std::to_string(v == "lying_faces" ? nf * 1000 : nf) + nl;
-	h += std::string("property list ") + (v == "aliases" ? "uint8 int32" : v == "uint" ? "uchar uint" : "uchar int") +
+	h += std::string("property list ") +
+	     (v == "aliases" ? "uint8 int32"
+	      : v == "uint"  ? "uchar uint"
+	                     : "uchar int") +
 	     (v == "vertex_index" ? " vertex_index" : " vertex_indices") + nl + "end_header" + nl;
 	std::string body;
 	auto put = [&](const void *p, size_t n) {
@@ -378,8 +387,9 @@ int main(int argc, char **argv)
 		// every third model also with vertex colours, as MeshLab saves a coloured scan
 		if (exported % 3 == 0) {
 			for (size_t i = 0; i < mesh.vert.size(); ++i)
-				mesh.vert[i].C() = vcg::Color4b((unsigned char)(i * 7), (unsigned char)(i * 13),
-				                                (unsigned char)(i * 29), (unsigned char)(255 - i % 7));
+				mesh.vert[i].C() =
+				    vcg::Color4b((unsigned char)(i * 7), (unsigned char)(i * 13),
+				                 (unsigned char)(i * 29), (unsigned char)(255 - i % 7));
 			const std::string coloured = name.substr(0, name.size() - 4) + "_rgba.ply";
 			if (vcg::tri::io::ExporterPLY<gausslod::IoMesh>::Save(
 			        mesh, coloured.c_str(), vcg::tri::io::Mask::IOM_VERTCOLOR, true) == 0)
@@ -387,14 +397,23 @@ int main(int argc, char **argv)
 		}
 	}
 	// the variants of the largest model (more faces than one batch of the fast path)
-	const Variant variants[] = {
-	    {"plain", true},           {"uint", true},          {"vertex_index", true},
-	    {"aliases", true},         {"crlf", true},          {"trailing", true},
-	    {"no_faces", true},        {"quad_last", false},    {"index_out_of_range", false},
-	    {"rgb", true},             {"rgba", true},          {"rgb_float", false},
-	    {"rgba_extra", false},
-	    {"short_body", false},     {"lying_faces", false},  {"texture_comment", false},
-	    {"big_endian", false}};
+	const Variant variants[] = {{"plain", true},
+	                            {"uint", true},
+	                            {"vertex_index", true},
+	                            {"aliases", true},
+	                            {"crlf", true},
+	                            {"trailing", true},
+	                            {"no_faces", true},
+	                            {"quad_last", false},
+	                            {"index_out_of_range", false},
+	                            {"rgb", true},
+	                            {"rgba", true},
+	                            {"rgb_float", false},
+	                            {"rgba_extra", false},
+	                            {"short_body", false},
+	                            {"lying_faces", false},
+	                            {"texture_comment", false},
+	                            {"big_endian", false}};
 	int failed = 0;
 	if (largest.face.size() <= (1u << 14)) {
 		std::printf("FAIL: no model with more than one batch of faces for the variants\n");
@@ -410,8 +429,8 @@ int main(int argc, char **argv)
 		gausslod::importMesh(probe, path, e, &info);
 		lean = info.fastPly;
 		if (lean != v.fast) {
-			std::printf("FAIL %s: fast path %s (wanted %s)\n", path.c_str(), lean ? "taken" : "not taken",
-			            v.fast ? "taken" : "not taken");
+			std::printf("FAIL %s: fast path %s (wanted %s)\n", path.c_str(),
+			            lean ? "taken" : "not taken", v.fast ? "taken" : "not taken");
 			++failed;
 		}
 		plys.push_back(path);
@@ -459,8 +478,9 @@ int main(int argc, char **argv)
 		const std::string d3 = compareFlat(p, flat, coloured);
 		if (!d3.empty() || flat != (lean && !coloured)) {
 			std::printf("FAIL %s: %s\n", p.c_str(),
-			            d3.empty() ? "flat arrays read where the fast path was not, or not where it was"
-			                       : d3.c_str());
+			            d3.empty()
+			                ? "flat arrays read where the fast path was not, or not where it was"
+			                : d3.c_str());
 			++failed;
 		}
 		if (lean) { // (the level STL writer on the same meshes)
@@ -475,11 +495,13 @@ int main(int argc, char **argv)
 		flatReads += flat;
 		fastColoured += lean && coloured;
 	}
-	std::printf("%zu PLY files (%zu written by VCG's exporter from Debian's models, %zu variants of "
-	            "one with %zu faces): %d read by the fast path (%d of them with vertex colours, %d straight "
-	            "into flat arrays, %d written as STL levels), %d failed\n",
-	            plys.size(), exported, sizeof variants / sizeof variants[0],
-	            largest.face.size(), fast, fastColoured, flatReads, stlWritten, failed);
+	std::printf(
+	    "%zu PLY files (%zu written by VCG's exporter from Debian's models, %zu variants of "
+	    "one with %zu faces): %d read by the fast path (%d of them with vertex colours, %d "
+	    "straight "
+	    "into flat arrays, %d written as STL levels), %d failed\n",
+	    plys.size(), exported, sizeof variants / sizeof variants[0], largest.face.size(), fast,
+	    fastColoured, flatReads, stlWritten, failed);
 	if (fastColoured < 10) {
 		std::printf("FAIL: only %d files with vertex colours took the fast path\n", fastColoured);
 		return 1;

@@ -4,9 +4,9 @@
 // buildLevels: the engine's error must then contain the fragment (none: it must succeed).
 // Usage: test_read_corpus CORPUS_DIR [SECONDS_PER_FILE]
 #include "gausslod/gausslod.h"
+#include "gausslod/vcg_adapter.h"
 #include "gausslod_io/import_mesh.h"
 #include "gausslod_io/io_mesh.h"
-#include "gausslod/vcg_adapter.h"
 
 #include <poll.h>
 #include <signal.h>
@@ -73,7 +73,8 @@ std::string runChild(const std::string &path, double seconds, std::string &why)
 	char buf[4096];
 	for (;;) {
 		const double left =
-		    seconds - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+		    seconds -
+		    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 		pollfd p{fd[0], POLLIN, 0};
 		if (left <= 0 || poll(&p, 1, int(left * 1000) + 1) == 0) {
 			kill(pid, SIGKILL);

@@ -58,10 +58,7 @@ LoadedFilter &plugin()
 	return loaded;
 }
 
-QString dataFile(const char *name)
-{
-	return QString(GAUSSLOD_DATA_DIR) + "/" + name;
-}
+QString dataFile(const char *name) { return QString(GAUSSLOD_DATA_DIR) + "/" + name; }
 
 /// Adds a layer holding a real model read from an OFF file, labelled like MeshLab does ("cow.off").
 MeshModel *loadOffLayer(MeshDocument &md, const QString &path)
@@ -168,8 +165,7 @@ bool hasFauxEdge(const CMeshO &m)
 	return false;
 }
 
-class GaussLodPlugin : public ::testing::Test
-{
+class GaussLodPlugin : public ::testing::Test {
 protected:
 	void SetUp() override
 	{

@@ -30,7 +30,7 @@ MeshModel *loadObjLayer(MeshDocument &md, const QString &path)
 }
 
 using Corner = std::tuple<std::array<float, 3>, float, float, short>; // position, u, v, texture
-using Material = std::tuple<unsigned, short>;                          // face colour, texture
+using Material = std::tuple<unsigned, short>;                         // face colour, texture
 
 std::array<float, 3> position(const CVertexO *v) { return {{v->cP()[0], v->cP()[1], v->cP()[2]}}; }
 
@@ -89,9 +89,7 @@ void expectCarriedFrom(const std::set<Corner> &inCorners, const std::set<Materia
 }
 
 /// (A suite of its own: the fixture class of this file is not the other file's.)
-class GaussLodAttributes : public GaussLodPlugin
-{
-};
+class GaussLodAttributes : public GaussLodPlugin {};
 
 } // namespace
 
@@ -124,7 +122,8 @@ TEST_F(GaussLodAttributes, textured_obj_with_materials_keeps_its_uvs_textures_an
 		const QStringList carried = lines.filter("Carried to the levels: ");
 		ASSERT_EQ(carried.size(), 1) << qUtf8Printable(lines.join("\n"));
 		EXPECT_TRUE(carried[0].contains("face colour"));
-		EXPECT_EQ(carried[0].contains("vertex colour"), input->hasDataMask(MeshModel::MM_VERTCOLOR));
+		EXPECT_EQ(carried[0].contains("vertex colour"),
+		          input->hasDataMask(MeshModel::MM_VERTCOLOR));
 		EXPECT_EQ(carried[0].contains("wedge texture coordinates"), textured);
 		EXPECT_EQ(carried[0].contains("; textures: "), !input->cm.textures.empty());
 		if (textured)
@@ -176,7 +175,8 @@ TEST_F(GaussLodAttributes, vertex_colours_are_the_input_vertices_and_superfaces_
 	auto colourNear = [&](const CVertexO &w) {
 		for (const auto &v : input->cm.vert)
 			if (rgba(v.cC()) == rgba(w.cC()) &&
-			    vcg::Distance(vcg::Point3d::Construct(v.cP()), vcg::Point3d::Construct(w.cP())) <= reach)
+			    vcg::Distance(vcg::Point3d::Construct(v.cP()), vcg::Point3d::Construct(w.cP())) <=
+			        reach)
 				return true;
 		return false;
 	};
@@ -186,7 +186,8 @@ TEST_F(GaussLodAttributes, vertex_colours_are_the_input_vertices_and_superfaces_
 	for (MeshModel *lm : levels(md)) {
 		SCOPED_TRACE(qUtf8Printable(lm->label()));
 		EXPECT_TRUE(lm->hasDataMask(MeshModel::MM_VERTCOLOR));
-		EXPECT_FALSE(lm->hasDataMask(MeshModel::MM_FACECOLOR)) << "superface colours over real ones";
+		EXPECT_FALSE(lm->hasDataMask(MeshModel::MM_FACECOLOR))
+		    << "superface colours over real ones";
 		size_t wrong = 0;
 		for (const auto &v : lm->cm.vert)
 			wrong += !colourNear(v);
@@ -251,10 +252,11 @@ TEST_F(GaussLodAttributes, only_selected_faces_keeps_the_others_exactly)
 		EXPECT_EQ(missing, 0u);
 		EXPECT_LT(size_t(lm->cm.fn), unselected.size() + selected); // the selection simplified
 	}
-	EXPECT_EQ(logLines()
-	              .filter(QString("Only selected faces: %1 unselected faces kept as they are")
-	                          .arg(QLocale(QLocale::English).toString(qulonglong(unselected.size()))))
-	              .size(),
-	          1)
+	EXPECT_EQ(
+	    logLines()
+	        .filter(QString("Only selected faces: %1 unselected faces kept as they are")
+	                    .arg(QLocale(QLocale::English).toString(qulonglong(unselected.size()))))
+	        .size(),
+	    1)
 	    << qUtf8Printable(logLines().join("\n"));
 }

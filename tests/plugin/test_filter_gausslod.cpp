@@ -18,10 +18,11 @@ TEST_F(GaussLodPlugin, declares_itself_as_a_single_mesh_remeshing_filter)
 	loadOffLayer(md, dataFile("cow.off"));
 	const RichParameterList par = defaults(md);
 	const QStringList expected = {
-	    "maxLevel",     "levelsBy",      "levelTargets",  "outputLevels",  "featureAngle",     "straightenTol",
-	    "mergeDist",    "maxDistance",   "distanceGrowth", "normalLimit",  "acrossCells",      "placeVertices",
-	    "certifyDistance", "weldVertices", "weldDistance",  "keepMaterials", "keepSeams",     "maxTexError",      "completeChain",
-	    "selectedOnly", "colourSuperfaces", "overwriteColours", "fauxEdges"};
+	    "maxLevel",         "levelsBy",         "levelTargets",    "outputLevels",   "featureAngle",
+	    "straightenTol",    "mergeDist",        "maxDistance",     "distanceGrowth", "normalLimit",
+	    "acrossCells",      "placeVertices",    "certifyDistance", "weldVertices",   "weldDistance",
+	    "keepMaterials",    "keepSeams",        "maxTexError",     "completeChain",  "selectedOnly",
+	    "colourSuperfaces", "overwriteColours", "fauxEdges"};
 	EXPECT_EQ(par.size(), unsigned(expected.size()));
 	for (const QString &name : expected)
 		EXPECT_TRUE(par.hasParameter(name)) << qUtf8Printable(name);
@@ -364,14 +365,16 @@ TEST_F(GaussLodPlugin, every_budget_is_reached_and_one_out_of_reach_is_reported)
 	EXPECT_LE(md.meshList.at(1)->cm.fn, 580);
 	EXPECT_EQ(md.meshList.at(2)->cm.fn, 4);
 	const QStringList lines = logLines();
-	EXPECT_EQ(lines.filter(QRegularExpression("^LOD1 .*continued from LOD2 by [0-9,]+ edge "
-	                                          "collapses.*; target 580 faces reached"))
+	EXPECT_EQ(lines
+	              .filter(QRegularExpression("^LOD1 .*continued from LOD2 by [0-9,]+ edge "
+	                                         "collapses.*; target 580 faces reached"))
 	              .size(),
 	          1)
 	    << qUtf8Printable(lines.join("\n"));
-	EXPECT_EQ(lines.filter(QRegularExpression("^LOD0 .*; target 2 faces NOT reached \\(4 faces: "
-	                                          "the least a mesh of its topology can have "
-	                                          "\\(closed\\)\\)"))
+	EXPECT_EQ(lines
+	              .filter(QRegularExpression("^LOD0 .*; target 2 faces NOT reached \\(4 faces: "
+	                                         "the least a mesh of its topology can have "
+	                                         "\\(closed\\)\\)"))
 	              .size(),
 	          1)
 	    << qUtf8Printable(lines.join("\n"));
@@ -447,7 +450,8 @@ TEST_F(GaussLodPlugin, colour_and_faux_options_change_what_they_claim_and_nothin
 	ASSERT_EQ(on.size(), off.size());
 	for (int i = 1; i < on.size(); ++i) {
 		const CMeshO &a = on.meshList.at(i)->cm, &b = off.meshList.at(i)->cm;
-		EXPECT_TRUE(geometry(a) == geometry(b)) << "layer " << i << ": the options changed geometry";
+		EXPECT_TRUE(geometry(a) == geometry(b))
+		    << "layer " << i << ": the options changed geometry";
 		EXPECT_FALSE(hasFauxEdge(b));
 		// faux edges lie inside a superface: both faces across one have the same colour; a
 		// superface border (not faux) separates two colours

@@ -185,10 +185,7 @@ void expectFacesMatch(const Opened &o, const ObjFacts &facts, const std::string 
 	}
 }
 
-std::string objPath(const char *name)
-{
-	return (kObjDir + "/" + name).toStdString();
-}
+std::string objPath(const char *name) { return (kObjDir + "/" + name).toStdString(); }
 
 // ---- MeshLab gives .obj to this plugin ---------------------------------------------------------
 
@@ -223,8 +220,8 @@ TEST(ObjPlugin, MeshLabOpensObjWithThisPluginAndKeepsIoBaseForTheRest)
 TEST(ObjPlugin, TheFileNameOrderIsWhatGivesItObj)
 {
 	// the same plugin under a name sorting after libio_base.so loses .obj to io_base
-	const Formats f = formatsWith({{"libio_base.so", GAUSSLOD_IO_BASE_PATH},
-	                               {"libio_zz_obj.so", GAUSSLOD_OBJ_PLUGIN_PATH}});
+	const Formats f = formatsWith(
+	    {{"libio_base.so", GAUSSLOD_IO_BASE_PATH}, {"libio_zz_obj.so", GAUSSLOD_OBJ_PLUGIN_PATH}});
 	EXPECT_EQ(f.objIn, "IOBase");
 }
 
@@ -284,13 +281,12 @@ TEST(ObjPlugin, MtllibWithSpacesInFolderAndFileName)
 
 struct RealFile {
 	const char *name;
-	bool normals;   // has vn lines, faces refer to them
-	bool polygons;  // has faces of more than 3 corners
-	bool facewise;  // triangles only, every material found: checked face by face
+	bool normals;  // has vn lines, faces refer to them
+	bool polygons; // has faces of more than 3 corners
+	bool facewise; // triangles only, every material found: checked face by face
 };
 
-class ObjPluginRealFiles : public ::testing::TestWithParam<RealFile> {
-};
+class ObjPluginRealFiles : public ::testing::TestWithParam<RealFile> {};
 
 TEST_P(ObjPluginRealFiles, EveryFaceIsRead)
 {
@@ -310,9 +306,9 @@ TEST_P(ObjPluginRealFiles, EveryFaceIsRead)
 
 INSTANTIATE_TEST_SUITE_P(
     Assimp, ObjPluginRealFiles,
-    ::testing::Values(RealFile{"WusonOBJ.obj", true, false, true},  // vt + vn, one vt for all
-                      RealFile{"regr01.obj", false, false, true},   // 688 vt, 38 usemtl, mtllib ./
-                      RealFile{"cube_usemtl.obj", true, false, true}, // usemtl per face, vn
+    ::testing::Values(RealFile{"WusonOBJ.obj", true, false, true}, // vt + vn, one vt for all
+                      RealFile{"regr01.obj", false, false, true},  // 688 vt, 38 usemtl, mtllib ./
+                      RealFile{"cube_usemtl.obj", true, false, true},     // usemtl per face, vn
                       RealFile{"concave_polygon.obj", true, true, false}, // one concave 66-gon
                       RealFile{"space_in_material_name.obj", true, true, false},
                       RealFile{"box_mat_with_spaces.obj", false, true, false},
@@ -328,12 +324,11 @@ INSTANTIATE_TEST_SUITE_P(
 
 struct BadFile {
 	const char *name;
-	std::string content; // written to a temporary file; empty: `name` is a real file
+	std::string content;  // written to a temporary file; empty: `name` is a real file
 	const char *expected; // part of the error message
 };
 
-class ObjPluginBadInput : public ::testing::TestWithParam<BadFile> {
-};
+class ObjPluginBadInput : public ::testing::TestWithParam<BadFile> {};
 
 TEST_P(ObjPluginBadInput, IsRefusedWithAClearError)
 {

@@ -14,7 +14,8 @@
 //    distance tolerance, with no duplicate face (same vertices, same orientation) and no face
 //    with a repeated vertex;
 //  - every superface border is shared by both superfaces it separates (no crack, no T-junction);
-//    a closed 2-manifold input gives a closed 2-manifold output, and mesh-boundary loops stay loops;
+//    a closed 2-manifold input gives a closed 2-manifold output, and mesh-boundary loops stay
+//    loops;
 //  - faces are oriented like the input faces they replace;
 //  - a superface that cannot be re-triangulated validly (its projection folds or its border would
 //    self-intersect) is split back into its children of the next finer level, down to the input
@@ -198,7 +199,7 @@ enum class ParamKind {
 /// One parameter of Params, for front ends: the MeshLab filter builds its dialog from these, the
 /// gausslod tool its options (--kebab-case of `name`).
 struct ParamSpec {
-	const char *name;        ///< the Params member, filter and .mlx parameter name
+	const char *name; ///< the Params member, filter and .mlx parameter name
 	ParamKind kind;
 	const char *label;       ///< the dialog's label
 	const char *summary;     ///< one line for the tool's help
@@ -264,26 +265,26 @@ struct InputStats {
 };
 
 struct LevelStats {
-	int level = 0;               ///< Gauss-sphere level i (cells 3^i x 3^i per cube face)
-	double boundDeg = 0;         ///< the paper's normal-deviation bound sqrt(2)*90/3^i
-	size_t faces = 0;            ///< output triangles
-	size_t vertices = 0;         ///< output vertices
-	size_t superfaces = 0;       ///< superfaces in the final partition of this level
-	size_t fallbacks = 0;        ///< superfaces split back into finer ones (see guarantees)
-	size_t retriangulated = 0;   ///< superfaces re-triangulated by constrained Delaunay
+	int level = 0;                ///< Gauss-sphere level i (cells 3^i x 3^i per cube face)
+	double boundDeg = 0;          ///< the paper's normal-deviation bound sqrt(2)*90/3^i
+	size_t faces = 0;             ///< output triangles
+	size_t vertices = 0;          ///< output vertices
+	size_t superfaces = 0;        ///< superfaces in the final partition of this level
+	size_t fallbacks = 0;         ///< superfaces split back into finer ones (see guarantees)
+	size_t retriangulated = 0;    ///< superfaces re-triangulated by constrained Delaunay
 	size_t carriedSuperfaces = 0; ///< of those, how many took the finer level's triangles and
 	                              ///< measures: the same faces and outline, exact there, so
 	                              ///< re-triangulating gives the same (docs/DESIGN.md, 31)
-	double maxNormalDevDeg = 0;  ///< max angle between an input face normal and the output
-	                             ///< triangle covering its centroid (same superface)
-	double meanNormalDevDeg = 0; ///< area-weighted mean of the same
-	size_t unmeasuredFaces = 0;  ///< input faces whose centroid fell outside their superface's
-	                             ///< straightened outline (not in the two figures above)
-	double distanceBound = -1;   ///< with Params::maxDistance > 0: an upper bound on the distance
-	                             ///< between the level and the input, both ways (the two-sided
-	                             ///< Hausdorff distance), mesh units; proven per superface, not
-	                             ///< sampled (DESIGN 23); measured, it is about half of this;
-	                             ///< -1 = not computed (tolerance off)
+	double maxNormalDevDeg = 0;   ///< max angle between an input face normal and the output
+	                              ///< triangle covering its centroid (same superface)
+	double meanNormalDevDeg = 0;  ///< area-weighted mean of the same
+	size_t unmeasuredFaces = 0;   ///< input faces whose centroid fell outside their superface's
+	                              ///< straightened outline (not in the two figures above)
+	double distanceBound = -1;    ///< with Params::maxDistance > 0: an upper bound on the distance
+	                              ///< between the level and the input, both ways (the two-sided
+	                              ///< Hausdorff distance), mesh units; proven per superface, not
+	                              ///< sampled (DESIGN 23); measured, it is about half of this;
+	                              ///< -1 = not computed (tolerance off)
 	/// With Params::certifyDistance: the two-sided Hausdorff distance between the level and the
 	/// input (every valid input triangle, as given), certified by branch and bound after the
 	/// level is made (DESIGN 52): `hausdorff` is an upper bound (rounded up) and
@@ -310,15 +311,15 @@ struct LevelStats {
 	                             ///<  adjacency, vertex classes and the finest buckets, 2.1-2.2.1)
 	double secondsBorders = 0;   ///<  rings, straightening, vicinity merging (2.2.2-2.3)
 	double secondsTriangulation = 0; ///< re-triangulation and deviation measurement (2.4)
-	double secondsChecks = 0;    ///<  whole-level validity check and fallback bookkeeping
-	double secondsPlacement = 0; ///<  vertex placement and its checks (Params::placeVertices)
-	double secondsCollapse = 0;  ///<  DESIGN 50: collapses of the finer level (whether taken or not)
-	int rounds = 0;              ///< build rounds (1 + rounds caused by fallbacks)
+	double secondsChecks = 0;        ///<  whole-level validity check and fallback bookkeeping
+	double secondsPlacement = 0;     ///<  vertex placement and its checks (Params::placeVertices)
+	double secondsCollapse = 0; ///<  DESIGN 50: collapses of the finer level (whether taken or not)
+	int rounds = 0;             ///< build rounds (1 + rounds caused by fallbacks)
 	/// Levels by target (Params::levelFaces / levelDistances); in angle mode targetFaces = 0,
 	/// targetDistance = -1 and targetReached = true.
-	size_t targetFaces = 0;      ///< faces mode: the level's face budget (percentages resolved)
-	double targetDistance = -1;  ///< error mode: the level's tolerance, fraction of the diagonal
-	bool targetReached = true;   ///< faces <= targetFaces; maxDistance <= targetDistance
+	size_t targetFaces = 0;     ///< faces mode: the level's face budget (percentages resolved)
+	double targetDistance = -1; ///< error mode: the level's tolerance, fraction of the diagonal
+	bool targetReached = true;  ///< faces <= targetFaces; maxDistance <= targetDistance
 	/// Faces mode, budget not reached: the least faces a mesh of the level's topology can have
 	/// (its components, genera and boundary loops kept, each loop a triangle at least; 0 = no
 	/// claim, a non-manifold level) and its boundary loops. faces == leastFaces: the budget is
@@ -327,9 +328,9 @@ struct LevelStats {
 	size_t leastFaces = 0;
 	size_t boundaryLoops = 0;
 	size_t components = 0; ///< (its connected parts, with leastFaces)
-	double tolerance = 0;        ///< the distance tolerance the level was built with, fraction of
-	                             ///< the diagonal (0 = none); faces mode: the one the search chose
-	int trials = 1;              ///< builds of the level (faces mode: the tolerance search's)
+	double tolerance = 0;  ///< the distance tolerance the level was built with, fraction of
+	                       ///< the diagonal (0 = none); faces mode: the one the search chose
+	int trials = 1;        ///< builds of the level (faces mode: the tolerance search's)
 	/// DESIGN 50: half-edge collapses of the finer level that made this level (0 = the
 	/// superface build's mesh). maxNormalDevDeg is then a bound (each new triangle against the
 	/// cones of the input normals it stands for; the finer level's own figure for the others),
@@ -339,12 +340,12 @@ struct LevelStats {
 	/// or the angle chain's step (not the superface level's own count); maxNormalDevDeg is then
 	/// a bound from the cones of the input normals each triangle stands for.
 	bool reduced = false;
-	bool reusedFiner = false;    ///< the merged partition gave more faces than the next finer
-	                             ///< level (or, in angle mode, a larger distance bound with not
-	                             ///< 1 % fewer faces: DESIGN 29): this level is that level's mesh
-	                             ///< (face counts stay monotone; the finer level keeps this
-	                             ///< level's bound too)
-	InputStats input;            ///< what this level's input repairs were (Result::input)
+	bool reusedFiner = false; ///< the merged partition gave more faces than the next finer
+	                          ///< level (or, in angle mode, a larger distance bound with not
+	                          ///< 1 % fewer faces: DESIGN 29): this level is that level's mesh
+	                          ///< (face counts stay monotone; the finer level keeps this
+	                          ///< level's bound too)
+	InputStats input;         ///< what this level's input repairs were (Result::input)
 };
 
 /// Why a level's face budget was not reached, a clause for the tool's table and the filter's
@@ -352,12 +353,12 @@ struct LevelStats {
 std::string budgetNote(const LevelStats &s);
 
 struct LevelMesh {
-	std::vector<double> positions;     ///< xyz per output vertex
-	std::vector<int32_t> sourceVertex; ///< input vertex index of each output vertex
-	std::vector<int32_t> triangles;    ///< 3 indices per output face
-	std::vector<int32_t> superface;    ///< superface id per output face (0..superfaces-1)
-	std::vector<uint8_t> borderEdges;  ///< per face: bit k set = edge (k,k+1) is a superface
-	                                   ///< border; clear = internal to its superface (faux edge)
+	std::vector<double> positions;       ///< xyz per output vertex
+	std::vector<int32_t> sourceVertex;   ///< input vertex index of each output vertex
+	std::vector<int32_t> triangles;      ///< 3 indices per output face
+	std::vector<int32_t> superface;      ///< superface id per output face (0..superfaces-1)
+	std::vector<uint8_t> borderEdges;    ///< per face: bit k set = edge (k,k+1) is a superface
+	                                     ///< border; clear = internal to its superface (faux edge)
 	std::vector<int32_t> inputSuperface; ///< superface id of each input face (the faces that
 	                                     ///< superface's output triangles replace)
 	/// With MeshView::wantSources: per output corner (3 per face), an input corner 3*f+k of the
@@ -390,10 +391,10 @@ enum class ErrorKind {
 
 struct Result {
 	bool ok = false;
-	std::string error;              ///< set when ok == false: what is wrong with the input
+	std::string error; ///< set when ok == false: what is wrong with the input
 	ErrorKind errorKind = ErrorKind::None;
-	std::vector<LevelMesh> levels;  ///< the requested levels, finest first (level maxLevel-1 .. 0)
-	InputStats input;               ///< input repairs (set once the input is validated)
+	std::vector<LevelMesh> levels; ///< the requested levels, finest first (level maxLevel-1 .. 0)
+	InputStats input;              ///< input repairs (set once the input is validated)
 	double totalSeconds = 0;
 };
 

@@ -23,8 +23,8 @@ bool traceSuperface(const Topology &t, const Partition &p, const SuperfaceFaces 
 		const int32_t f = faces.face[size_t(i)];
 		for (int k = 0; k < 3; ++k) {
 			const int32_t h0 = 3 * f + k;
-			// a delimiter inside the superface (a seam that ends inside it) cannot be re-triangulated
-			// around: the superface is split like one that folds
+			// a delimiter inside the superface (a seam that ends inside it) cannot be
+			// re-triangulated around: the superface is split like one that folds
 			const int32_t tw = t.twin[size_t(h0)];
 			if (!t.delimiter.empty() && t.delimiter[size_t(h0)] && tw >= 0 &&
 			    p.label[size_t(heFace(tw))] == s)
@@ -146,7 +146,8 @@ void traceRings(const Topology &t, const Partition &p, const SuperfaceFaces &fac
 		ChunkOut &o = chunks.out[c];
 		for (int32_t s = chunks.start[c]; s < chunks.start[c + 1]; ++s) {
 			const size_t ringsBefore = o.ringStart.size(), heBefore = o.ringHE.size();
-			if (dirty[size_t(s)] && !traceSuperface(t, p, faces, s, b.border, o.ringHE, o.ringStart)) {
+			if (dirty[size_t(s)] &&
+			    !traceSuperface(t, p, faces, s, b.border, o.ringHE, o.ringStart)) {
 				for (size_t i = heBefore; i < o.ringHE.size(); ++i)
 					b.border[size_t(o.ringHE[i])] &= uint8_t(~Borders::kVisited);
 				o.ringStart.resize(ringsBefore), o.ringHE.resize(heBefore);

@@ -87,7 +87,7 @@ void growRegions(const MeshView &mesh, const Topology &t, double eps, size_t thr
 	std::vector<std::vector<int32_t>> badOf(devOf.size());
 	parallelRanges(nF, threads, [&](size_t f0, size_t f1, size_t part) {
 		double &dev = devOf[part];
-		size_t last = SIZE_MAX; // (the seed's plane, kept while its faces follow each other)
+		size_t last = SIZE_MAX;    // (the seed's plane, kept while its faces follow each other)
 		size_t lastBad = SIZE_MAX; // (the last component found bad: its faces need no check)
 		Vec3 n(0, 0, 0), p(0, 0, 0);
 		for (size_t f = f0; f < f1; ++f) {

@@ -179,7 +179,6 @@ bool faceTooFar(const TriangulationInput &in, int32_t s, size_t i, int32_t f, co
 	return false;
 }
 
-
 // A distance kept as a float, rounded up (a bound must stay a bound).
 inline float roundedUp(double d) { return float(d * (1 + 1e-6)); }
 

@@ -173,7 +173,8 @@ struct FaceGrid {
 	template <class Fn>
 	void forBox(const Vec3 &a, const Vec3 &b, Fn fn) const
 	{
-		forBuckets(a, b, [](uint64_t) { return false; }, fn);
+		forBuckets(
+		    a, b, [](uint64_t) { return false; }, fn);
 	}
 
 	/// forBox, but with a unit direction `t`: only the buckets that may hold a face whose normal
@@ -183,7 +184,8 @@ struct FaceGrid {
 	void forBoxFacingAway(const Vec3 &a, const Vec3 &b, const Vec3 &t, const Normals &normals,
 	                      Fn fn) const
 	{
-		forBuckets(a, b, [&](uint64_t c) { return allFacing(coneOf(c, normals), t); }, fn);
+		forBuckets(
+		    a, b, [&](uint64_t c) { return allFacing(coneOf(c, normals), t); }, fn);
 	}
 
 	/// forBox, skipping the buckets c with skip(c).

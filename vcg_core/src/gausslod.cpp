@@ -107,17 +107,18 @@ constexpr double kErrorReach = 8;
 constexpr int kErrorTrials = 4;
 constexpr size_t kCertifyPieces = 64; // per triangle of both sides: the refinement's budget
 
-void certify(const MeshView &input, LevelMesh &level, std::unique_ptr<detail::TriangleTree> &inputTree,
-             size_t threads)
+void certify(const MeshView &input, LevelMesh &level,
+             std::unique_ptr<detail::TriangleTree> &inputTree, size_t threads)
 {
 	const auto t0 = std::chrono::steady_clock::now();
 	if (!inputTree)
-		inputTree.reset(new detail::TriangleTree(input.positions, input.triangles, input.faceCount));
+		inputTree.reset(
+		    new detail::TriangleTree(input.positions, input.triangles, input.faceCount));
 	const detail::TriangleTree lt(level.positions.data(), level.triangles.data(),
-	                      level.triangles.size() / 3);
-	const detail::HausdorffBounds h =
-	    detail::hausdorff(lt, *inputTree, kCertifyEps,
-	              kCertifyPieces * (lt.triangles().size() + inputTree->triangles().size()), threads);
+	                              level.triangles.size() / 3);
+	const detail::HausdorffBounds h = detail::hausdorff(
+	    lt, *inputTree, kCertifyEps,
+	    kCertifyPieces * (lt.triangles().size() + inputTree->triangles().size()), threads);
 	LevelStats &st = level.stats;
 	st.hausdorff = h.upper;
 	st.hausdorffLower = h.lower;
@@ -140,10 +141,10 @@ bool fail(Result &res, ErrorKind kind, std::string error)
 // each vertex's index in the input (empty: the input's vertices as they are). Dropping them
 // changes no position in use and no order among the rest; the diagonal is the input's (`diagonal`).
 struct WeldedInput {
-	std::vector<int32_t> triangles;  ///< on the welded vertices (empty: nothing welded)
-	std::vector<double> positions;   ///< the kept vertices (with inputVertex only)
+	std::vector<int32_t> triangles;   ///< on the welded vertices (empty: nothing welded)
+	std::vector<double> positions;    ///< the kept vertices (with inputVertex only)
 	std::vector<int32_t> inputVertex; ///< input index per kept vertex (empty: all kept)
-	double diagonal = 0;             ///< the input's bounding box diagonal
+	double diagonal = 0;              ///< the input's bounding box diagonal
 };
 
 // A vertex array is compacted when at least this share of it was welded away.
@@ -160,8 +161,7 @@ void weldInput(const MeshView &input, const Params &params, MeshView &mesh, Weld
 	stats.weldedVertices = detail::weldVertices(input, params.weldDistance * w.diagonal, rep);
 	if (stats.weldedVertices == 0)
 		return;
-	const bool compact =
-	    double(stats.weldedVertices) >= kCompactWelded * double(input.vertexCount);
+	const bool compact = double(stats.weldedVertices) >= kCompactWelded * double(input.vertexCount);
 	if (compact) { // (rep[v] = its new index, for a kept vertex)
 		w.inputVertex.reserve(input.vertexCount - stats.weldedVertices);
 		w.positions.reserve(3 * (input.vertexCount - stats.weldedVertices));
@@ -204,8 +204,7 @@ bool prepare(const MeshView &input, const Params &params, Result &res, MeshView 
 		return fail(res, ErrorKind::BadInput, error);
 	weldInput(input, params, mesh, welded, res.input);
 	// (the vertex classes are the levels' business: buildLevels classifies the mesh it builds on)
-	detail::buildTopology(mesh, params.featureAngle, topo, threads, false, false,
-	                      welded.diagonal);
+	detail::buildTopology(mesh, params.featureAngle, topo, threads, false, false, welded.diagonal);
 	countRepairs(mesh, topo, res.input);
 	if (res.input.facesSkipped() == mesh.faceCount)
 		return fail(res, ErrorKind::BadInput,
@@ -406,7 +405,8 @@ void setTargetStats(const Params &p, int level, size_t target, double diagonal, 
 		st.targetFaces = target;
 		st.targetReached = st.faces <= target;
 		if (!st.targetReached) {
-			const detail::LevelTopology lt = detail::levelTopology(lm.triangles, lm.positions.size() / 3);
+			const detail::LevelTopology lt =
+			    detail::levelTopology(lm.triangles, lm.positions.size() / 3);
 			st.leastFaces = lt.leastFaces;
 			st.boundaryLoops = lt.boundaryLoops;
 			st.components = lt.components;
@@ -723,7 +723,8 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 			if (!byAngle) {
 				reduce = true;
 				rl.faces = byFaces ? target : 0;
-				rl.bound = byFaces ? HUGE_VAL : params.levelDistances[size_t(level)] * topo.diagonal;
+				rl.bound =
+				    byFaces ? HUGE_VAL : params.levelDistances[size_t(level)] * topo.diagonal;
 			} else if (params.completeChain) {
 				const LevelStats &o = takeCollapsed ? collapsed.mesh.stats : lm.stats;
 				const size_t cap = stepFaces(params, level, chainFaces, full.faceCount);
@@ -764,7 +765,8 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 					// down: the distance is not monotone in the bound, the bracket only a search)
 					got = trial(1.0, reduced, rr);
 					double lo = 0, hi = std::log(kErrorReach);
-					for (int i = 0; got && reduced.mesh.stats.hausdorff < 0.9 * asked && i < kErrorTrials;
+					for (int i = 0;
+					     got && reduced.mesh.stats.hausdorff < 0.9 * asked && i < kErrorTrials;
 					     ++i) {
 						const double k = i == 0 ? hi : 0.5 * (lo + hi);
 						CollapseSource c;
@@ -789,7 +791,8 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 					           ? rs.faces < o.faces
 					           : got && farthestInputVertex(topo, reduced.mesh, rs.distanceBound,
 					                                        threads) <
-					                        farthestInputVertex(topo, takeCollapsed ? collapsed.mesh : lm,
+					                        farthestInputVertex(topo,
+					                                            takeCollapsed ? collapsed.mesh : lm,
 					                                            o.distanceBound, threads);
 				else if (byAngle)
 					take = rs.faces < o.faces;
@@ -834,7 +837,7 @@ Result buildLevels(const MeshView &input, const Params &params, const Progress &
 				st.maxTexError = c.maxTexError;
 				st.texErrorLimit = c.texErrorLimit;
 				st.reusedFiner = c.collapses == 0; // (collapses made a mesh of its own)
-				if (certifiedByTrials) { // (certified by the error search, above)
+				if (certifiedByTrials) {           // (certified by the error search, above)
 					st.hausdorff = c.hausdorff;
 					st.hausdorffLower = c.hausdorffLower;
 					st.hausdorffConverged = c.hausdorffConverged;

@@ -171,7 +171,8 @@ void coarserPartition(const Topology &t, const Partition &fine, Partition &out, 
 			continue;
 		bool open = false; // any neighbour left to absorb? (else skip the neighbourhood)
 		for (int32_t i = start[size_t(s)]; i < start[size_t(s) + 1] && !open; ++i)
-			open = group[size_t(adj[size_t(i)])] < 0 && fine.cell[size_t(adj[size_t(i)])] != kInvalidCell;
+			open = group[size_t(adj[size_t(i)])] < 0 &&
+			       fine.cell[size_t(adj[size_t(i)])] != kInvalidCell;
 		if (!open) {
 			grow(s, [](CellKey) { return false; });
 			continue;
@@ -265,8 +266,9 @@ std::vector<std::pair<int32_t, int32_t>> superfacePairs(const std::vector<int32_
 	return pairs;
 }
 
-bool sameCoarserPartition(const Partition &fine, const std::vector<std::pair<int32_t, int32_t>> &adjacent,
-                          double boundDeg, Partition &out)
+bool sameCoarserPartition(const Partition &fine,
+                          const std::vector<std::pair<int32_t, int32_t>> &adjacent, double boundDeg,
+                          Partition &out)
 {
 	const size_t n = fine.count();
 	if (fine.level < 1 || !fine.partLabel.empty() ||

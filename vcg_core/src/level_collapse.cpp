@@ -64,9 +64,8 @@ void collapseSourceOf(const Topology &t, LevelMesh lm, CollapseSource &out)
 	out.unbounded = !perSuperface && lm.stats.distanceBound < 0;
 	for (size_t f = 0; f < nT; ++f) // (float bounds: the next float up, to stay bounds)
 		out.bound[f] =
-		    perSuperface
-		        ? double(std::nextafter(lm.superfaceBound[size_t(lm.superface[f])], 3e38f))
-		        : std::max(0.0, lm.stats.distanceBound);
+		    perSuperface ? double(std::nextafter(lm.superfaceBound[size_t(lm.superface[f])], 3e38f))
+		                 : std::max(0.0, lm.stats.distanceBound);
 	out.mesh = std::move(lm);
 }
 
@@ -184,8 +183,7 @@ private:
 
 } // namespace
 
-double farthestInputVertex(const Topology &t, const LevelMesh &level, double within,
-                           size_t threads)
+double farthestInputVertex(const Topology &t, const LevelMesh &level, double within, size_t threads)
 {
 	if (level.triangles.empty())
 		return HUGE_VAL;
@@ -236,7 +234,8 @@ void measureNormalDeviation(const Topology &t, LevelMesh &level, size_t threads)
 		for (size_t f = fb; f < fe; ++f) {
 			if (!t.faceValid[f] || f % stride != 0)
 				continue;
-			const Vec3 c = (t.pos(t.T[3 * f]) + t.pos(t.T[3 * f + 1]) + t.pos(t.T[3 * f + 2])) / 3.0;
+			const Vec3 c =
+			    (t.pos(t.T[3 * f]) + t.pos(t.T[3 * f + 1]) + t.pos(t.T[3 * f + 2])) / 3.0;
 			double d2 = 0;
 			const int32_t g = grid.nearest(c, rMax, d2);
 			if (g < 0)

@@ -159,7 +159,8 @@ std::vector<Entry> makeEntries()
 	      "(default).",
 	      d.weldDistance, 0, 1, false, true},
 	     &Params::weldDistance},
-	    {{"keepMaterials", K::Flag, "Keep materials apart", "faces of different materials never merge",
+	    {{"keepMaterials", K::Flag, "Keep materials apart",
+	      "faces of different materials never merge",
 	      "Faces with different materials, textures or face colours (MeshLab reads OBJ "
 	      "materials into these) never share a superface: every output face has its input "
 	      "faces' material. Off = merge across material changes (the output face takes the "

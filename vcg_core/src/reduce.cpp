@@ -21,7 +21,6 @@
 
 #include <Eigen/Eigenvalues>
 
-
 namespace gausslod {
 namespace detail {
 
@@ -187,9 +186,9 @@ struct Plan {
 	bool full = false;
 	Vec3 pos;
 	PatchCase pc;
-	int32_t oldId[PatchCase::kMaxTris];  // (per old triangle of pc: its mesh triangle)
-	int32_t newId[PatchCase::kMaxTris];  // (per new triangle: the mesh triangle it reuses)
-	int32_t point[PatchCase::kMaxPts];   // (per local point: its mesh vertex)
+	int32_t oldId[PatchCase::kMaxTris]; // (per old triangle of pc: its mesh triangle)
+	int32_t newId[PatchCase::kMaxTris]; // (per new triangle: the mesh triangle it reuses)
+	int32_t point[PatchCase::kMaxPts];  // (per local point: its mesh vertex)
 	int32_t dead[2];
 	int nDead = 0;
 	int32_t keptCorner[2] = {-1, -1}; // (half: u's corners in the two dead triangles)
@@ -223,7 +222,7 @@ private:
 	std::vector<uint8_t> alive_, dlm_, kind_, blocked_;
 	std::vector<uint32_t> stamp_;
 	std::vector<double> e_, devBound_; // (devBound_: of a triangle made here, -1 otherwise)
-	std::vector<int32_t> sf_, sfUf_;    // (keepSuperfaces: each triangle's source superface)
+	std::vector<int32_t> sf_, sfUf_;   // (keepSuperfaces: each triangle's source superface)
 	std::vector<NormalCone> cone_;
 	std::vector<float> uvErr_;
 	std::vector<Quadric> Q_;
@@ -337,7 +336,6 @@ bool Reducer::ring(int32_t v, Ring &r) const
 				return false;
 	return true;
 }
-
 
 // The corner of the other live triangle on the edge a -> b of corner c (its corner at b, edge
 // b -> a); -1 if there is none, -2 if the edge is not between exactly two consistently oriented
@@ -466,8 +464,8 @@ void Reducer::setDelimiter(int32_t c)
 		dlm_[size_t(c)] = 0;
 		return;
 	}
-	bool cut = mesh_.faceKey && mesh_.faceKey[srcF_[size_t(heFace(c))]] !=
-	                                mesh_.faceKey[srcF_[size_t(heFace(d))]];
+	bool cut = mesh_.faceKey &&
+	           mesh_.faceKey[srcF_[size_t(heFace(c))]] != mesh_.faceKey[srcF_[size_t(heFace(d))]];
 	if (mesh_.cornerKey) { // (c is at a, d at b; d's next is its corner at a)
 		const uint32_t *K = mesh_.cornerKey;
 		cut = cut || K[srcC_[size_t(c)]] != K[srcC_[size_t(heNext(d))]] ||
@@ -520,16 +518,12 @@ bool Reducer::allowed(int32_t a, int32_t b, int op, bool boundaryEdge, bool deli
 		return false; // (the full collapses at either end are the same and placed)
 	const uint8_t kr = op == kHalfAB ? ka : kb; // (the removed vertex)
 	switch (kr) {
-	case kFree:
-		return !boundaryEdge;
-	case kBoundary:
-		return boundaryEdge;
-	case kSeam: // (along its seam; where a count needs it, across: its charts follow)
-		return (delimiterEdge || allowJunctions_) && !boundaryEdge;
-	case kJunction:
-		return allowJunctions_ && !boundaryEdge;
-	default:
-		return false;
+		case kFree: return !boundaryEdge;
+		case kBoundary: return boundaryEdge;
+		case kSeam: // (along its seam; where a count needs it, across: its charts follow)
+			return (delimiterEdge || allowJunctions_) && !boundaryEdge;
+		case kJunction: return allowJunctions_ && !boundaryEdge;
+		default: return false;
 	}
 }
 
@@ -540,28 +534,23 @@ double Reducer::opCost(int32_t a, int32_t b, int op, Vec3 &pos) const
 	const Vec3 &pa = P_[size_t(a)], &pb = P_[size_t(b)];
 	const Vec3 mid = (pa + pb) * 0.5;
 	switch (op) {
-	case kAtBest:
-		if (!q.minimum(mid, pos))
-			pos = mid;
-		break;
-	case kAtMiddle:
-		pos = mid;
-		break;
-	case kAtA:
-	case kHalfBA:
-		pos = pa;
-		break;
-	default:
-		pos = pb;
-		break;
+		case kAtBest:
+			if (!q.minimum(mid, pos))
+				pos = mid;
+			break;
+		case kAtMiddle: pos = mid; break;
+		case kAtA:
+		case kHalfBA: pos = pa; break;
+		default: pos = pb; break;
 	}
 	return std::max(0.0, q.eval(pos));
 }
 
 bool Reducer::plan(int32_t a, int32_t b, int op, const Vec3 &pos, Plan &pl) const
 {
-	return op < kHalfAB ? planFull(a, b, pos, pl)
-	                    : op == kHalfAB ? planHalf(a, b, pl) : planHalf(b, a, pl);
+	return op < kHalfAB    ? planFull(a, b, pos, pl)
+	       : op == kHalfAB ? planHalf(a, b, pl)
+	                       : planHalf(b, a, pl);
 }
 
 double Reducer::cost(int32_t a, int32_t b, double g, double q) const
@@ -596,8 +585,8 @@ bool Reducer::bestOp(int32_t a, int32_t b, uint8_t tried, Entry &e) const
 			return false;
 		const double g = gapLowerBound(a, b, best, pos);
 		if (g <= lim_.bound) {
-			e = {cost(a, b, g, bestQ), a, b, stamp_[size_t(a)], stamp_[size_t(b)], uint8_t(best),
-			     tried};
+			e = {cost(a, b, g, bestQ), a,    b, stamp_[size_t(a)], stamp_[size_t(b)],
+			     uint8_t(best),        tried};
 			return true;
 		}
 		tried = uint8_t(tried | 1u << best); // (its gap alone is over the limit)
@@ -627,7 +616,8 @@ double Reducer::gapLowerBound(int32_t a, int32_t b, int op, const Vec3 &pos) con
 				continue; // (on the collapsed edge: gone)
 			fromGone = std::min(fromGone, pointTriangleDistance2(P_[size_t(gone)], target, px, py));
 			if (full)
-				fromKept = std::min(fromKept, pointTriangleDistance2(P_[size_t(kept)], target, px, py));
+				fromKept =
+				    std::min(fromKept, pointTriangleDistance2(P_[size_t(kept)], target, px, py));
 		}
 	}
 	double g = 0;
@@ -771,7 +761,8 @@ bool Reducer::planHalf(int32_t v, int32_t u, Plan &pl) const
 		}
 		c.nOld = n;
 		for (int j = 1; j <= n - 2; ++j) {
-			c.newTri[c.nNew][0] = 0, c.newTri[c.nNew][1] = int8_t(j), c.newTri[c.nNew][2] = int8_t(j + 1);
+			c.newTri[c.nNew][0] = 0, c.newTri[c.nNew][1] = int8_t(j),
+			c.newTri[c.nNew][2] = int8_t(j + 1);
 			pl.newId[c.nNew++] = rv.face[j];
 		}
 		pl.nDead = 2;
@@ -800,7 +791,8 @@ bool Reducer::planHalf(int32_t v, int32_t u, Plan &pl) const
 		c.nOld = n;
 		const int8_t K = first ? 0 : int8_t(n);
 		for (int j = first ? 1 : 0; j <= (first ? n - 1 : n - 2); ++j) {
-			c.newTri[c.nNew][0] = K, c.newTri[c.nNew][1] = int8_t(j), c.newTri[c.nNew][2] = int8_t(j + 1);
+			c.newTri[c.nNew][0] = K, c.newTri[c.nNew][1] = int8_t(j),
+			c.newTri[c.nNew][2] = int8_t(j + 1);
 			pl.newId[c.nNew++] = rv.face[j];
 		}
 		c.pocket = true;
@@ -822,7 +814,8 @@ bool Reducer::check(Plan &pl) const
 	if (!provePatch(c, kFacing, slop(), pl.proof))
 		return false;
 	for (int i = 0; i < c.nNew; ++i) {
-		const Vec3 &a = c.pos[c.newTri[i][0]], &b = c.pos[c.newTri[i][1]], &d = c.pos[c.newTri[i][2]];
+		const Vec3 &a = c.pos[c.newTri[i][0]], &b = c.pos[c.newTri[i][1]],
+		           &d = c.pos[c.newTri[i][2]];
 		Vec3 nt = (b - a) ^ (d - a);
 		if (!(nt.Norm() > 1e-30 * t_.diagonal * t_.diagonal))
 			return false;
@@ -953,10 +946,10 @@ double Reducer::uvLocal(const Plan &pl) const
 						uv[k][m] = pt == c.newInner || q < 0 ? pl.newUV[i][m]
 						                                     : uv_[2 * size_t(q) + size_t(m)];
 				}
-				const double du = l[0] * uv[0][0] + l[1] * uv[1][0] + l[2] * uv[2][0] -
-				                  uv_[2 * size_t(cw)];
-				const double dv = l[0] * uv[0][1] + l[1] * uv[1][1] + l[2] * uv[2][1] -
-				                  uv_[2 * size_t(cw) + 1];
+				const double du =
+				    l[0] * uv[0][0] + l[1] * uv[1][0] + l[2] * uv[2][0] - uv_[2 * size_t(cw)];
+				const double dv =
+				    l[0] * uv[0][1] + l[1] * uv[1][1] + l[2] * uv[2][1] - uv_[2 * size_t(cw) + 1];
 				err = std::sqrt(du * du + dv * dv);
 			}
 			local = std::max(local, err);
@@ -966,8 +959,9 @@ double Reducer::uvLocal(const Plan &pl) const
 		if (pl.extended[i])
 			for (int32_t q = 3 * pl.newId[i]; q < 3 * pl.newId[i] + 3; ++q)
 				if (T_[size_t(q)] == pl.gone)
-					local = std::max(local, double(std::hypot(pl.newUV[i][0] - uv_[2 * size_t(q)],
-					                                          pl.newUV[i][1] - uv_[2 * size_t(q) + 1])));
+					local = std::max(local,
+					                 double(std::hypot(pl.newUV[i][0] - uv_[2 * size_t(q)],
+					                                   pl.newUV[i][1] - uv_[2 * size_t(q) + 1])));
 	const Vec3 &pv = P_[size_t(pl.gone)];
 	double nearest = HUGE_VAL, err = 0;
 	int chart = 0;
@@ -1043,7 +1037,8 @@ void Reducer::wedges(Plan &pl) const
 			double best = HUGE_VAL;
 			for (int j = 0; j < c.nOld; ++j) {
 				const int32_t f = pl.oldId[j];
-				const Vec3 &a = P_[size_t(T_[3 * size_t(f)])], &b = P_[size_t(T_[3 * size_t(f) + 1])],
+				const Vec3 &a = P_[size_t(T_[3 * size_t(f)])],
+				           &b = P_[size_t(T_[3 * size_t(f) + 1])],
 				           &d = P_[size_t(T_[3 * size_t(f) + 2])];
 				const double d2 = pointTriangleDistance2(pl.pos, a, b, d);
 				if (d2 >= best)
@@ -1115,7 +1110,8 @@ bool Reducer::facesInput(const Plan &pl) const
 	// not on the other side of a thin part: the input surface nearest each new triangle faces it
 	const PatchCase &c = pl.pc;
 	for (int i = 0; i < c.nNew; ++i) {
-		const Vec3 &a = c.pos[c.newTri[i][0]], &b = c.pos[c.newTri[i][1]], &d = c.pos[c.newTri[i][2]];
+		const Vec3 &a = c.pos[c.newTri[i][0]], &b = c.pos[c.newTri[i][1]],
+		           &d = c.pos[c.newTri[i][2]];
 		Vec3 nt = (b - a) ^ (d - a);
 		nt.Normalize();
 		if (!nearestInputFacing(t_, (a + b + d) / 3.0, nt,
@@ -1148,7 +1144,8 @@ void Reducer::apply(const Plan &pl)
 	double dev[PatchCase::kMaxTris];
 	for (int i = 0; i < c.nNew; ++i) {
 		bool first = true;
-		const Vec3 &a = c.pos[c.newTri[i][0]], &b = c.pos[c.newTri[i][1]], &d = c.pos[c.newTri[i][2]];
+		const Vec3 &a = c.pos[c.newTri[i][0]], &b = c.pos[c.newTri[i][1]],
+		           &d = c.pos[c.newTri[i][2]];
 		Vec3 nt = (b - a) ^ (d - a);
 		nt.Normalize();
 		dev[i] = 0;
@@ -1385,14 +1382,14 @@ void Reducer::write(CollapseSource &out, ReduceReport &report)
 			continue;
 		twin[c] = twinOf(T_, head_, next_, alive_, int32_t(c));
 		const int32_t d = twin[c];
-		if (d < 0 || dlm_[c] || cell[c / 3] == kInvalidCell || cell[c / 3] != cell[size_t(heFace(d))])
+		if (d < 0 || dlm_[c] || cell[c / 3] == kInvalidCell ||
+		    cell[c / 3] != cell[size_t(heFace(d))])
 			continue;
 		const int32_t a = findCell(int32_t(c / 3)), b = findCell(heFace(d));
 		if (a != b)
 			uf[size_t(std::max(a, b))] = std::min(a, b);
 	}
-	std::vector<int32_t> remap(nV, -1), triId(nT, -1),
-	    sfId(std::max(nT, sfUf_.size()), -1);
+	std::vector<int32_t> remap(nV, -1), triId(nT, -1), sfId(std::max(nT, sfUf_.size()), -1);
 	for (size_t f = 0; f < nT; ++f)
 		if (alive_[f])
 			for (int k = 0; k < 3; ++k)
@@ -1593,8 +1590,7 @@ void inputSource(const Topology &t, const MeshView &mesh, CollapseSource &out)
 }
 
 bool reduceLevel(const Topology &t, const MeshView &mesh, const CollapseSource &src,
-                 const ReduceLimits &lim, size_t threads, CollapseSource &out,
-                 ReduceReport &report)
+                 const ReduceLimits &lim, size_t threads, CollapseSource &out, ReduceReport &report)
 {
 	Reducer r(t, mesh, src, lim, threads);
 	return r.run(out, report);

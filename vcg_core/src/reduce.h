@@ -9,7 +9,8 @@
 // the patch's normal, they are two height fields over one polygon, and their vertical gap, linear
 // on each cell of the overlay of the two triangulations, is largest at a vertex of the overlay:
 // that gap, added to the bounds of the patch triangles under each fan triangle, is the fan
-// triangle's proven distance bound (both ways). The order is the quadric's (Garland and Heckbert): least error first.
+// triangle's proven distance bound (both ways). The order is the quadric's (Garland and Heckbert):
+// least error first.
 #pragma once
 
 #include "level_collapse.h"
@@ -19,16 +20,16 @@ namespace detail {
 
 /// What a reduced level may not exceed, and how it is made.
 struct ReduceLimits {
-	size_t faces = 0;         ///< stop at or below this many triangles (0: no budget)
-	double bound = HUGE_VAL;  ///< every triangle's distance bound at most this (mesh units)
-	double normalDeg = 180;   ///< every triangle within this of the input normals it stands
-	                          ///< for (>= 180: only the facing tests)
-	double texError = 0;      ///< with texture coordinates: every triangle's UV error bound at
-	                          ///< most this, UV units (0 = no limit)
+	size_t faces = 0;          ///< stop at or below this many triangles (0: no budget)
+	double bound = HUGE_VAL;   ///< every triangle's distance bound at most this (mesh units)
+	double normalDeg = 180;    ///< every triangle within this of the input normals it stands
+	                           ///< for (>= 180: only the facing tests)
+	double texError = 0;       ///< with texture coordinates: every triangle's UV error bound at
+	                           ///< most this, UV units (0 = no limit)
 	bool texErrorSoft = false; ///< the limit is measured against, not kept: collapses beyond it
 	                           ///< go in their order (DESIGN 54; the face budget first)
-	bool placement = true;    ///< full collapses placed by the quadric (no texture coordinates)
-	int level = 0;            ///< Gauss-sphere level: the output's superfaces are its cells'
+	bool placement = true;     ///< full collapses placed by the quadric (no texture coordinates)
+	int level = 0;             ///< Gauss-sphere level: the output's superfaces are its cells'
 	/// The output's superfaces are the source's, merged where a collapse joins them (DESIGN 50:
 	/// every output corner's source a corner of its superface), not the level's cells'.
 	bool keepSuperfaces = false;
@@ -37,8 +38,8 @@ struct ReduceLimits {
 /// What stopped a reduction short of its budget.
 struct ReduceReport {
 	size_t collapses = 0;
-	size_t minimumFaces = 0; ///< when the budget was not reached: the faces left (the least the
-	                         ///< kept vertices and legal collapses allow)
+	size_t minimumFaces = 0;   ///< when the budget was not reached: the faces left (the least the
+	                           ///< kept vertices and legal collapses allow)
 	size_t lockedVertices = 0; ///< vertices no collapse may remove (delimiter junctions, locked
 	                           ///< input vertices, where boundary loops touch)
 	double maxTexError = -1; ///< with texture coordinates: the largest UV error bound of a triangle

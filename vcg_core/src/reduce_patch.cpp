@@ -132,7 +132,8 @@ bool proveByHeights(const PatchCase &c, double facing, double slop, bool under, 
 	// the direction: the old patch's area-weighted normal
 	Vec3 n(0, 0, 0);
 	for (int i = 0; i < c.nOld; ++i) {
-		const Vec3 &a = c.pos[c.oldTri[i][0]], &b = c.pos[c.oldTri[i][1]], &d = c.pos[c.oldTri[i][2]];
+		const Vec3 &a = c.pos[c.oldTri[i][0]], &b = c.pos[c.oldTri[i][1]],
+		           &d = c.pos[c.oldTri[i][2]];
 		n += (b - a) ^ (d - a);
 	}
 	const double nl = n.Norm();
@@ -295,9 +296,9 @@ bool proveByHeights(const PatchCase &c, double facing, double slop, bool under, 
 	if (c.pocket) {
 		if (pocketTri < 0)
 			return false;
-		out.gap[pocketTri] = std::max(out.gap[pocketTri],
-		                              pointSegmentDistance(c.pos[c.inner[0]], c.pos[c.pocketA],
-		                                                   c.pos[c.pocketB]));
+		out.gap[pocketTri] =
+		    std::max(out.gap[pocketTri],
+		             pointSegmentDistance(c.pos[c.inner[0]], c.pos[c.pocketA], c.pos[c.pocketB]));
 	}
 	for (int i = 0; i < c.nNew; ++i)
 		out.gap[i] += slop;

@@ -51,8 +51,7 @@ struct PatchProof {
 /// looser bound, `byPairs`). False only if an old triangle shares no vertex with a new one. `slop`
 /// (mesh units) is added to every gap for rounding.
 /// With `under` false, only the gaps (for a cost).
-bool provePatch(const PatchCase &c, double facing, double slop, PatchProof &out,
-                bool under = true);
+bool provePatch(const PatchCase &c, double facing, double slop, PatchProof &out, bool under = true);
 
 } // namespace detail
 } // namespace gausslod

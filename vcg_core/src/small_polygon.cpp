@@ -51,7 +51,8 @@ int inCircle(const P2 &a, const P2 &b, const P2 &c, const P2 &d)
 	const double al = adx * adx + ady * ady, bl = bdx * bdx + bdy * bdy, cl = cdx * cdx + cdy * cdy;
 	const double det = al * (bc1 - bc2) + bl * (ca1 - ca2) + cl * (ab1 - ab2);
 	const double permanent = (std::fabs(bc1) + std::fabs(bc2)) * al +
-	                         (std::fabs(ca1) + std::fabs(ca2)) * bl + (std::fabs(ab1) + std::fabs(ab2)) * cl;
+	                         (std::fabs(ca1) + std::fabs(ca2)) * bl +
+	                         (std::fabs(ab1) + std::fabs(ab2)) * cl;
 	const double bound = kInCircleBound * permanent;
 	return det > bound ? 1 : det < -bound ? -1 : 0;
 }
@@ -130,7 +131,7 @@ bool triangulatePolygon(const P2 *p, const int32_t *poly, size_t m, int32_t *tri
 				const int in = inCircle(p[a], p[b], p[c], p[d]);
 				if (in == 0)
 					return false; // cocircular (or not certain)
-				if (in > 0) { // quad a d b c (counterclockwise): diagonal c d instead of a b
+				if (in > 0) {     // quad a d b c (counterclockwise): diagonal c d instead of a b
 					if (++flips > 4 * m * m)
 						return false; // (cannot happen: certain flips end)
 					tri[3 * t] = c, tri[3 * t + 1] = a, tri[3 * t + 2] = d;
@@ -242,10 +243,12 @@ SmallRing triangulateSmallRing(TriangulationJob &job)
 			if (i == 0 && j == n - 1)
 				continue; // (adjacent through vertex 0)
 			const P2 &c = p[j], &d = p[nextOf(j)];
-			if (std::max(a.x, b.x) < std::min(c.x, d.x) || std::max(c.x, d.x) < std::min(a.x, b.x) ||
+			if (std::max(a.x, b.x) < std::min(c.x, d.x) ||
+			    std::max(c.x, d.x) < std::min(a.x, b.x) ||
 			    std::max(a.y, b.y) < std::min(c.y, d.y) || std::max(c.y, d.y) < std::min(a.y, b.y))
 				continue; // (boxes apart)
-			const int o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a), o4 = orient(c, d, b);
+			const int o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a),
+			          o4 = orient(c, d, b);
 			if (o1 == 0 || o2 == 0 || o3 == 0 || o4 == 0 || (o1 != o2 && o3 != o4))
 				return SmallRing::NotHandled; // touching, crossing or not certain
 		}

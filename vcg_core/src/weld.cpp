@@ -41,7 +41,10 @@ size_t tableSize(size_t n)
 	return size;
 }
 
-bool finite3(const double *p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
+bool finite3(const double *p)
+{
+	return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+}
 
 // Exact: each position's first vertex is the key's slot. Vertices with skip[v] (if given) stay.
 size_t weldExact(const MeshView &m, const uint8_t *skip, std::vector<int32_t> &rep)
