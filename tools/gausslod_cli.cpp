@@ -415,24 +415,6 @@ bool writeAtomically(const std::string &file, const std::string &text)
 	return ok;
 }
 
-std::string jsonString(const std::string &s)
-{
-	std::string out = "\"";
-	for (const char c : s) {
-		if (c == '"' || c == '\\') {
-			out += '\\';
-			out += c;
-		} else if (static_cast<unsigned char>(c) < 0x20) {
-			char buf[8];
-			std::snprintf(buf, sizeof buf, "\\u%04x", unsigned(c));
-			out += buf;
-		} else {
-			out += c;
-		}
-	}
-	return out + "\"";
-}
-
 std::string repairsJson(const gausslod::InputStats &in)
 {
 	char buf[480];

@@ -12,6 +12,24 @@
 
 namespace cli {
 
+std::string jsonString(const std::string &s)
+{
+	std::string out = "\"";
+	for (const char c : s) {
+		if (c == '"' || c == '\\') {
+			out += '\\';
+			out += c;
+		} else if (static_cast<unsigned char>(c) < 0x20) {
+			char buf[8];
+			std::snprintf(buf, sizeof buf, "\\u%04x", unsigned(c));
+			out += buf;
+		} else {
+			out += c;
+		}
+	}
+	return out + "\"";
+}
+
 namespace {
 
 // Appends `bytes` to the buffer as a new buffer view (4-byte aligned); returns its index.
