@@ -73,6 +73,7 @@
 #include <istream>
 #include <memory>
 #include <new>
+#include <set>
 #include <streambuf>
 #include <string>
 #include <vector>
@@ -545,8 +546,8 @@ struct ObjScan {
 	long long vertices = 0;
 	bool vertexColours = false; // a vertex line with colours ('v x y z r g b')
 	long long shortFaces = 0;   // face records with fewer than 3 vertices (VCG skips them)
-	std::vector<std::string> usedMaterials, definedMaterials; // (usemtl names; newmtl names of the
-	                                                          // material files VCG opens)
+	std::set<std::string> usedMaterials, definedMaterials; // (usemtl names; newmtl names of the
+	                                                       // material files VCG opens)
 };
 
 /// A material file VCG will open (relative to the working directory, the OBJ's folder while it is
@@ -554,7 +555,7 @@ struct ObjScan {
 inline bool checkContinuations(LineReader &in, const char *where, ReadError &e);
 
 inline bool checkMaterialFile(const std::string &name, ReadError &e,
-                              std::vector<std::string> *defined = nullptr)
+                              std::set<std::string> *defined = nullptr)
 {
 	struct stat st;
 	if (::stat(name.c_str(), &st) != 0)
@@ -579,7 +580,7 @@ inline bool checkMaterialFile(const std::string &name, ReadError &e,
 				++b;
 			while (end > b && (end[-1] == '\r' || end[-1] == ' ' || end[-1] == '\t'))
 				--end;
-			defined->emplace_back(b, end);
+			defined->emplace(b, end);
 		}
 	}
 	return true;
@@ -780,7 +781,7 @@ inline bool scanObj(FILE *f, const std::string &path, uint64_t size, double vert
 		} else if (is("usemtl")) {
 			usemtl = true;
 			if (w.size() > 1)
-				out.usedMaterials.emplace_back(w[1].b, w[w.size() - 1].e);
+				out.usedMaterials.emplace(w[1].b, w[w.size() - 1].e);
 		}
 	}
 	if (usemtl && path.size() >= 4 &&
@@ -880,6 +881,15 @@ inline bool plyFaceListReadable(const vcg::ply::PlyProperty &p)
 	return ((t == T_INT || t == T_SHORT) && count) || (t == T_UINT && (count || c == T_USHORT));
 }
 
+/// The value of type T stored (host byte order) at b, as a double.
+template <class T>
+double storedAs(const unsigned char *b)
+{
+	T x;
+	std::memcpy(&x, b, sizeof x);
+	return double(x);
+}
+
 /// One value of type t from a binary PLY body, as a double (integers exactly).
 inline bool readPlyBinary(FILE *f, int t, bool bigEndian, double &v)
 {
@@ -890,44 +900,14 @@ inline bool readPlyBinary(FILE *f, int t, bool bigEndian, double &v)
 	if (bigEndian)
 		std::reverse(b, b + n);
 	switch (t) {
-		case vcg::ply::T_CHAR: v = double(int8_t(b[0])); break;
-		case vcg::ply::T_UCHAR: v = double(b[0]); break;
-		case vcg::ply::T_SHORT: {
-			int16_t x;
-			std::memcpy(&x, b, 2);
-			v = x;
-			break;
-		}
-		case vcg::ply::T_USHORT: {
-			uint16_t x;
-			std::memcpy(&x, b, 2);
-			v = x;
-			break;
-		}
-		case vcg::ply::T_INT: {
-			int32_t x;
-			std::memcpy(&x, b, 4);
-			v = x;
-			break;
-		}
-		case vcg::ply::T_UINT: {
-			uint32_t x;
-			std::memcpy(&x, b, 4);
-			v = x;
-			break;
-		}
-		case vcg::ply::T_FLOAT: {
-			float x;
-			std::memcpy(&x, b, 4);
-			v = x;
-			break;
-		}
-		default: {
-			double x;
-			std::memcpy(&x, b, 8);
-			v = x;
-			break;
-		}
+		case vcg::ply::T_CHAR: v = storedAs<int8_t>(b); break;
+		case vcg::ply::T_UCHAR: v = storedAs<uint8_t>(b); break;
+		case vcg::ply::T_SHORT: v = storedAs<int16_t>(b); break;
+		case vcg::ply::T_USHORT: v = storedAs<uint16_t>(b); break;
+		case vcg::ply::T_INT: v = storedAs<int32_t>(b); break;
+		case vcg::ply::T_UINT: v = storedAs<uint32_t>(b); break;
+		case vcg::ply::T_FLOAT: v = storedAs<float>(b); break;
+		default: v = storedAs<double>(b); break;
 	}
 	return true;
 }
@@ -1796,9 +1776,7 @@ bool readChecked(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info)
 			                      " with fewer than 3 vertices skipped");
 		std::vector<std::string> missing;
 		for (const std::string &u : scan.usedMaterials)
-			if (std::find(scan.definedMaterials.begin(), scan.definedMaterials.end(), u) ==
-			        scan.definedMaterials.end() &&
-			    std::find(missing.begin(), missing.end(), u) == missing.end())
+			if (!scan.definedMaterials.count(u))
 				missing.push_back(u);
 		for (size_t i = 0; i < missing.size() && i < 3; ++i)
 			info->notes.push_back("material " +
