@@ -1401,7 +1401,7 @@ void Reducer::write(CollapseSource &out, ReduceReport &report)
 	o.positions.reserve(3 * usedV);
 	out.quadric.reserve(usedV);
 	int32_t nextV = 0;
-	size_t placed = 0, locked = 0;
+	size_t placed = 0;
 	double maxMove = 0;
 	for (size_t v = 0; v < nV; ++v) {
 		if (remap[v] < 0)
@@ -1411,7 +1411,6 @@ void Reducer::write(CollapseSource &out, ReduceReport &report)
 		for (int k = 0; k < 3; ++k)
 			o.positions.push_back(P_[v][k]);
 		out.quadric.push_back(Q_[v]);
-		locked += kind_[v] == kFixed;
 		const Vec3 in(&mesh_.positions[3 * size_t(srcV_[v])]);
 		if (!(P_[v] == in)) {
 			++placed;
@@ -1537,10 +1536,8 @@ void Reducer::write(CollapseSource &out, ReduceReport &report)
 	st.collapses = collapses_;
 	st.maxTexError = t_.UV ? double(maxUv) : -1;
 	report.collapses = collapses_;
-	report.lockedVertices = locked;
 	report.maxTexError = st.maxTexError;
 	report.texErrorLimit = std::max(lim_.texError, st.maxTexError); // (a soft one gave way)
-	report.minimumFaces = lim_.faces > 0 && st.faces > lim_.faces ? st.faces : 0;
 }
 
 } // namespace

@@ -35,13 +35,9 @@ struct ReduceLimits {
 	bool keepSuperfaces = false;
 };
 
-/// What stopped a reduction short of its budget.
+/// What a reduction did (why a budget was not reached: the level's LevelStats::leastFaces).
 struct ReduceReport {
 	size_t collapses = 0;
-	size_t minimumFaces = 0;   ///< when the budget was not reached: the faces left (the least the
-	                           ///< kept vertices and legal collapses allow)
-	size_t lockedVertices = 0; ///< vertices no collapse may remove (delimiter junctions, locked
-	                           ///< input vertices, where boundary loops touch)
 	double maxTexError = -1; ///< with texture coordinates: the largest UV error bound of a triangle
 	double texErrorLimit = 0; ///< the limit, or the largest error if a soft one gave way
 };
@@ -53,7 +49,7 @@ void inputSource(const Topology &t, const MeshView &mesh, CollapseSource &out);
 /// Collapses `src` until at most `lim.faces` triangles remain (or, with no face budget, until no
 /// collapse keeps every bound within `lim.bound`), into `out` (the level with its per-triangle
 /// bounds, cones and per-vertex quadrics, to continue from). True if the budget was reached (always
-/// true with no budget); false with `out` still the best level reached (report.minimumFaces).
+/// true with no budget); false with `out` still the best level reached.
 bool reduceLevel(const Topology &t, const MeshView &mesh, const CollapseSource &src,
                  const ReduceLimits &lim, size_t threads, CollapseSource &out,
                  ReduceReport &report);
