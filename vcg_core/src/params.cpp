@@ -24,10 +24,11 @@ struct Entry {
 	Entry(const ParamSpec &s, bool Params::*m) : spec(s), flag(m) {}
 };
 
-std::vector<Entry> makeEntries()
+// What sets the levels and which are written.
+std::vector<Entry> levelEntries()
 {
 	const Params d;
-	const double kLevels = kMaxCellLevel + 1, kInf = HUGE_VAL;
+	const double kLevels = kMaxCellLevel + 1;
 	using K = ParamKind;
 	return {
 	    {{"maxLevel", K::Integer, "Number of levels", "number of levels, 1..8",
@@ -57,6 +58,16 @@ std::vector<Entry> makeEntries()
 	      "0 = coarsest to (number of levels - 1) = finest, e.g. \"0,2\". All levels are "
 	      "computed either way, since each coarser level is made from the finer one.",
 	      0, 0, 0, false, true}},
+	};
+}
+
+// The paper's borders and bounds, and the distance tolerance beyond it.
+std::vector<Entry> shapeEntries()
+{
+	const Params d;
+	const double kInf = HUGE_VAL;
+	using K = ParamKind;
+	return {
 	    {{"featureAngle", K::Real, "Feature angle (deg)", "vertex-class threshold, degrees",
 	      "Angle in degrees (between 0 and 180) that classifies border vertices: a vertex "
 	      "whose incident normals all lie within it is flat, one with two groups of normals "
@@ -110,6 +121,15 @@ std::vector<Entry> makeEntries()
 	      "values simplify more; 0 = no limit (only flipped triangles are refused).",
 	      d.normalLimit, 0, kInf, false, true},
 	     &Params::normalLimit},
+	};
+}
+
+// Beyond the paper: how superfaces merge, where vertices go, what is measured.
+std::vector<Entry> buildEntries()
+{
+	const Params d;
+	using K = ParamKind;
+	return {
 	    {{"acrossCells", K::Flag, "Merge across cell borders",
 	      "merge across cell borders (false = the paper's superfaces)",
 	      "Beyond the paper: also merge neighbouring superfaces of different Gauss-sphere "
@@ -142,6 +162,16 @@ std::vector<Entry> makeEntries()
 	      "bound. It changes no level. Off = not computed (faster on large meshes).",
 	      double(d.certifyDistance), 0, 1, false, true},
 	     &Params::certifyDistance},
+	};
+}
+
+// What of the input is joined, kept apart or limited.
+std::vector<Entry> inputEntries()
+{
+	const Params d;
+	const double kInf = HUGE_VAL;
+	using K = ParamKind;
+	return {
 	    {{"weldVertices", K::Flag, "Weld coincident vertices", "weld vertices at the same position",
 	      "Vertices at exactly the same position are joined before simplifying (the first "
 	      "one is kept), as MeshLab does to STL files on import: a triangle soup (STL, most "
@@ -185,6 +215,16 @@ std::vector<Entry> makeEntries()
 	      "texture. 0 = no limit. Each level reports the largest error measured.",
 	      d.maxTexError, 0, kInf, false, true},
 	     &Params::maxTexError},
+	};
+}
+
+// The levels beyond the superfaces, and the threads.
+std::vector<Entry> chainEntries()
+{
+	const Params d;
+	const double kInf = HUGE_VAL;
+	using K = ParamKind;
+	return {
 	    {{"collapseLevels", K::Flag, "Collapse the finer level",
 	      "coarser levels also by collapses of the finer level where they reach its face count",
 	      "Beyond the paper (docs/DESIGN.md, 50): each coarser angle level is also made from the "
@@ -211,6 +251,16 @@ std::vector<Entry> makeEntries()
 	      double(d.threads), 0, kInf, false, false},
 	     &Params::threads},
 	};
+}
+
+std::vector<Entry> makeEntries()
+{
+	std::vector<Entry> e;
+	for (auto part : {levelEntries, shapeEntries, buildEntries, inputEntries, chainEntries}) {
+		const std::vector<Entry> p = part();
+		e.insert(e.end(), p.begin(), p.end());
+	}
+	return e;
 }
 
 const std::vector<Entry> &entries()
