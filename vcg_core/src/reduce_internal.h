@@ -1,0 +1,285 @@
+// The edge-collapse reducer's pieces (reduce.h), shared by its files: the driver, the queue and
+// the collapses' costs (reduce.cpp, one translation unit for the loop's hot calls); the vertex
+// kinds, rings and the patches a collapse replaces (reduce_plan.cpp); a planned collapse's checks
+// and texture (reduce_check.cpp); making it (reduce_apply.cpp); the start (reduce_setup.cpp) and
+// the level written out (reduce_write.cpp).
+#pragma once
+
+#include "reduce.h"
+#include "reduce_patch.h"
+
+namespace gausslod {
+namespace detail {
+namespace collapse {
+
+constexpr int kMaxRing = 32;          // a vertex with more triangles around it is not removed
+constexpr double kFacing = 1e-3;      // cos of the steepest triangle allowed against the patch
+constexpr double kFacingCells = 3;    // the thin-part test's reach, in face-grid cells
+constexpr double kBorderWeight = 1.0; // boundary and delimiter planes, per squared edge length
+// The texture's shift in a collapse's cost, as a share of its mesh-unit size (DESIGN 54: at 1 the
+// seams' collapses went so far ahead that the distance doubled; 0.1 keeps the order geometric)
+constexpr double kTexShiftWeight = 0.1;
+
+// (kJunction: where delimiters meet or one ends. Where a face count is asked, seams and junctions
+// also move across charts: a chart that loses its corner extends its mapping to the kept vertex)
+enum Kind : uint8_t { kFree, kBoundary, kSeam, kJunction, kFixed, kGone };
+
+// Operations: full collapses with the kept vertex at the quadric's least, the edge's middle, or
+// either end; half-edge collapses a -> b and b -> a.
+enum Op : uint8_t { kAtBest, kAtMiddle, kAtA, kAtB, kHalfAB, kHalfBA, kOps };
+// (Entry::tried: bit op = that operation was tried; kExactKey = the key is the cost, not a lower
+// bound of it)
+constexpr uint8_t kExactKey = 0x80;
+
+struct Entry {
+	double cost;
+	int32_t a, b;
+	uint32_t sa, sb;
+	uint8_t op, tried;
+	bool before(const Entry &o) const // (first out: least cost, then lowest a, b, op)
+	{
+		if (cost != o.cost)
+			return cost < o.cost;
+		if (a != o.a)
+			return a < o.a;
+		if (b != o.b)
+			return b < o.b;
+		return op < o.op;
+	}
+};
+
+// The collapses in line: a 4-ary heap. Its pops are the loop's largest cost, each a walk down a
+// heap too large for the cache: four children to an entry halve the levels of a binary heap.
+class CollapseQueue {
+public:
+	void assign(std::vector<Entry> &&all)
+	{
+		e_ = std::move(all);
+		for (size_t i = e_.size() / 4 + 1; i-- > 0;)
+			if (i < e_.size())
+				down(i, e_[i]);
+	}
+	bool empty() const { return e_.empty(); }
+	const Entry &top() const { return e_[0]; }
+	void pop()
+	{
+		const Entry last = e_.back();
+		e_.pop_back();
+		if (!e_.empty())
+			down(0, last);
+	}
+	void push(const Entry &x)
+	{
+		e_.push_back(x);
+		up(e_.size() - 1, x);
+	}
+
+private:
+	std::vector<Entry> e_;
+	void down(size_t i, const Entry x)
+	{
+		const size_t n = e_.size();
+		for (;;) {
+			const size_t c = 4 * i + 1;
+			if (c >= n)
+				break;
+			size_t best = c;
+			for (size_t j = c + 1; j < std::min(c + 4, n); ++j)
+				if (e_[j].before(e_[best]))
+					best = j;
+			if (!e_[best].before(x))
+				break;
+			e_[i] = e_[best];
+			i = best;
+		}
+		e_[i] = x;
+	}
+	void up(size_t i, const Entry x)
+	{
+		while (i > 0) {
+			const size_t p = (i - 1) / 4;
+			if (!x.before(e_[p]))
+				break;
+			e_[i] = e_[p];
+			i = p;
+		}
+		e_[i] = x;
+	}
+};
+
+// The triangles around a vertex in counter-clockwise order: face[i] = (v, nb[i], nb[i+1]);
+// closed: nb[n] == nb[0].
+struct Ring {
+	int n = 0;
+	bool closed = false;
+	int32_t face[kMaxRing];
+	int32_t corner[kMaxRing]; // (v's corner in face[i])
+	int32_t nb[kMaxRing + 1];
+	void rotate(int s) // (a closed ring, starting at face s)
+	{
+		int32_t f[kMaxRing], c[kMaxRing], w[kMaxRing];
+		for (int i = 0; i < n; ++i)
+			f[i] = face[(i + s) % n], c[i] = corner[(i + s) % n], w[i] = nb[(i + s) % n];
+		for (int i = 0; i < n; ++i)
+			face[i] = f[i], corner[i] = c[i], nb[i] = w[i];
+		nb[n] = nb[0];
+	}
+	int find(int32_t w) const
+	{
+		for (int i = 0; i < n; ++i)
+			if (nb[i] == w)
+				return i;
+		return closed || nb[n] != w ? -1 : n;
+	}
+};
+
+// One collapse ready to be proven and made.
+struct Plan {
+	int32_t kept = -1, gone = -1; // (a full collapse: kept takes the new position)
+	bool full = false;
+	Vec3 pos;
+	PatchCase pc;
+	int32_t oldId[PatchCase::kMaxTris]; // (per old triangle of pc: its mesh triangle)
+	int32_t newId[PatchCase::kMaxTris]; // (per new triangle: the mesh triangle it reuses)
+	int32_t point[PatchCase::kMaxPts];  // (per local point: its mesh vertex)
+	int32_t dead[2];
+	int nDead = 0;
+	int32_t keptCorner[2] = {-1, -1}; // (half: u's corners in the two dead triangles)
+	// (with sources: per new triangle, the source corner and texture coordinates its corner at
+	// the kept vertex takes)
+	int32_t newSrc[PatchCase::kMaxTris];
+	float newUV[PatchCase::kMaxTris][2];
+	bool extended[PatchCase::kMaxTris]; // (its chart's mapping extended to the kept vertex)
+	PatchProof proof;
+	double bound[PatchCase::kMaxTris];
+	double uvBound[PatchCase::kMaxTris];
+};
+
+// The corner of the other live triangle on the edge a -> b of corner c (its corner at b, edge
+// b -> a); -1 if there is none, -2 if the edge is not between exactly two consistently oriented
+// triangles.
+inline int32_t twinOf(const std::vector<int32_t> &T, const std::vector<int32_t> &head,
+                      const std::vector<int32_t> &next, const std::vector<uint8_t> &alive,
+                      int32_t c)
+{
+	const int32_t f = heFace(c), a = T[size_t(c)], b = T[size_t(heNext(c))];
+	int32_t found = -1;
+	for (int32_t d = head[size_t(b)]; d >= 0; d = next[size_t(d)]) {
+		const int32_t g = heFace(d);
+		if (g == f || !alive[size_t(g)])
+			continue;
+		if (T[size_t(heNext(d))] == a) {
+			if (found >= 0)
+				return -2;
+			found = d;
+		} else if (T[size_t(hePrev(d))] == a) {
+			return -2; // (the same direction: inconsistent or non-manifold)
+		}
+	}
+	return found;
+}
+
+// One reduction: the level as it is collapsed, in flat arrays indexed by vertex, corner and
+// triangle.
+class Reducer {
+public:
+	Reducer(const Topology &t, const MeshView &mesh, const CollapseSource &src,
+	        const ReduceLimits &lim, size_t threads)
+	    : t_(t), mesh_(mesh), src_(src), lim_(lim), threads_(threads)
+	{
+	}
+	bool run(CollapseSource &out, ReduceReport &report);
+
+private:
+	const Topology &t_;
+	const MeshView &mesh_;
+	const CollapseSource &src_;
+	const ReduceLimits &lim_;
+	const size_t threads_;
+	std::vector<Vec3> P_;
+	std::vector<int32_t> srcV_, T_, srcC_, head_, next_, fwd_;
+	std::vector<uint8_t> alive_, dlm_, kind_, blocked_;
+	std::vector<uint32_t> stamp_;
+	std::vector<double> e_, devBound_; // (devBound_: of a triangle made here, -1 otherwise)
+	std::vector<int32_t> sf_, sfUf_;   // (keepSuperfaces: each triangle's source superface)
+	std::vector<NormalCone> cone_;
+	std::vector<float> uvErr_;
+	std::vector<Quadric> Q_;
+	CollapseQueue heap_;
+	size_t live_ = 0, collapses_ = 0;
+	std::vector<int32_t> scratch_;
+	// (seams and junctions move across charts where a face count is asked: their cost counts the
+	// texture's shift, so the collapses along seams go first)
+	bool checkFacing_ = true;
+	bool keys_ = false, allowJunctions_ = lim_.faces > 0 && !lim_.keepSuperfaces;
+	std::vector<float> uv_; // (with texture coordinates: 2 per corner)
+	std::vector<int32_t> srcF_;
+
+	Vec3 normal(int32_t f) const
+	{
+		const Vec3 &a = P_[size_t(T_[3 * f])], &b = P_[size_t(T_[3 * f + 1])],
+		           &c = P_[size_t(T_[3 * f + 2])];
+		return (b - a) ^ (c - a);
+	}
+	double slop() const { return 1e-12 * t_.diagonal; }
+	int32_t superfaceOf(int32_t f) // (keepSuperfaces: the root of f's merged source superface)
+	{
+		int32_t x = sf_[size_t(f)];
+		while (sfUf_[size_t(x)] != x)
+			x = sfUf_[size_t(x)] = sfUf_[size_t(sfUf_[size_t(x)])];
+		return x;
+	}
+
+	// the driver and the queue (reduce.cpp)
+	void seedQueue();
+	void tryCollapse(Entry top, Plan &pl);
+	double opCost(int32_t a, int32_t b, int op, Vec3 &pos) const;
+	bool allowed(int32_t a, int32_t b, int op, bool boundaryEdge, bool delimiterEdge) const;
+	bool edgeFlags(int32_t a, int32_t b, bool &boundaryEdge, bool &delimiterEdge) const;
+	bool bestOp(int32_t a, int32_t b, uint8_t tried, Entry &e) const;
+	double gapLowerBound(int32_t a, int32_t b, int op, const Vec3 &pos) const;
+	/// The cost of a collapse whose quadric error is q and whose largest gap is g.
+	double cost(int32_t a, int32_t b, double g, double q) const;
+	void pushEdges(int32_t v);
+
+	// vertex kinds, rings and the patches of collapses (reduce_plan.cpp)
+	bool ring(int32_t v, Ring &r) const;
+	void classify();
+	void setDelimiter(int32_t c);
+	uint8_t kindOf(int32_t v) const;
+	bool planFull(int32_t u, int32_t v, const Vec3 &p, Plan &pl) const;
+	bool planHalf(int32_t v, int32_t u, Plan &pl) const;
+	bool plan(int32_t a, int32_t b, int op, const Vec3 &pos, Plan &pl) const;
+
+	// a planned collapse's checks and texture (reduce_check.cpp)
+	bool check(Plan &pl) const;
+	bool facesInput(const Plan &pl) const;
+	void wedges(Plan &pl) const;
+	bool textureError(Plan &pl) const;
+	double uvLocal(const Plan &pl) const;
+	double textureShift(const Plan &pl) const;
+
+	// making a collapse (reduce_apply.cpp)
+	void apply(const Plan &pl);
+	void fanCones(const Plan &pl, NormalCone *cones, double *dev) const;
+	void removeDead(const Plan &pl);
+	void rewriteFan(const Plan &pl, const NormalCone *cones, const double *dev);
+	void relink(const Plan &pl);
+	void prune(int32_t v);
+
+	// the start (reduce_setup.cpp) and the level written out (reduce_write.cpp)
+	void setUp();
+	void planeQuadrics();
+	struct Written;
+	void write(CollapseSource &out, ReduceReport &report);
+	int32_t groupOf(Written &w, int32_t f);
+	void groupTriangles(Written &w);
+	void writeVertices(Written &w, CollapseSource &out) const;
+	void writeTriangles(Written &w, CollapseSource &out);
+	void writeInputFaces(Written &w, CollapseSource &out);
+	void writeStats(const Written &w, CollapseSource &out, ReduceReport &report) const;
+};
+
+} // namespace collapse
+} // namespace detail
+} // namespace gausslod
