@@ -7,7 +7,7 @@
 // every level is built on it instead of on the input (an over-tessellated plane costs its
 // outline, not its faces). Passes over the faces and the vertices, in parallel, and one
 // constrained Delaunay triangulation per region.
-#include "engine.h"
+#include "coplanar_regions.h"
 
 #include <algorithm>
 #include <atomic>
@@ -17,157 +17,6 @@ namespace gausslod {
 namespace detail {
 
 namespace {
-
-struct Regions {
-	std::vector<int32_t> of;   ///< per face: its region, -1 = not in a region of 2+ faces
-	std::vector<int32_t> seed; ///< per region: its first face (the plane's face)
-	std::vector<uint8_t> dead; ///< per region: its outline could not be triangulated
-	double planeDev = 0;       ///< the largest distance of a region's vertex from its plane
-};
-
-// Regions of 2+ faces: connected across 2-manifold, non-delimiter edges, every vertex within eps
-// of the plane of the region's first face (its seed), every face facing the same way as the seed
-// (a face folded back onto the plane is not one with it). In parallel: each edge links its two
-// faces if the upper face's third vertex is within eps of the lower face's plane and it faces
-// the same way; the linked faces' components whose every vertex is within eps of the seed's
-// plane are the regions; a component that is not (a surface curving too slowly for one edge to
-// show it) is grown again face by face from its faces in order, against each seed's plane.
-void growRegions(const MeshView &mesh, const Topology &t, double eps, size_t threads, Regions &r)
-{
-	const size_t nF = t.nF;
-	auto eligible = [&](size_t f) {
-		return !t.faceDropped[f] && t.faceValid[f] && !(mesh.keepFace && mesh.keepFace[f]);
-	};
-	// union-find over faces; a component's root is its lowest face
-	std::vector<int32_t> parent(nF);
-	for (size_t f = 0; f < nF; ++f)
-		parent[f] = int32_t(f);
-	auto find = [&](int32_t f) {
-		while (parent[size_t(f)] != f)
-			f = parent[size_t(f)] = parent[size_t(parent[size_t(f)])];
-		return f;
-	};
-	std::vector<uint8_t> link(nF, 0); // bit e: f's edge e links it to its twin's face
-	parallelRanges(nF, threads, [&](size_t f0, size_t f1, size_t) {
-		for (size_t f = f0; f < f1; ++f) {
-			if (!eligible(f))
-				continue;
-			const Vec3 n = t.faceNormal[f];
-			for (size_t e = 0; e < 3; ++e) {
-				const int32_t h = t.joinTwin(3 * f + e);
-				if (h < 0 || size_t(heFace(h)) < f || !eligible(size_t(heFace(h))))
-					continue; // (each edge once, from its lower face)
-				const Vec3 a = t.pos(t.heFrom(h)), b = t.pos(t.heTo(h));
-				const Vec3 cg = t.pos(t.heFrom(hePrev(h)));
-				if (std::fabs((cg - a).dot(n)) <= eps && ((b - a) ^ (cg - a)).dot(n) > 0)
-					link[f] |= uint8_t(1u << e);
-			}
-		}
-	});
-	for (size_t f = 0; f < nF; ++f)
-		for (size_t e = 0; e < 3; ++e)
-			if (link[f] & (1u << e)) {
-				const int32_t a = find(int32_t(f)), b = find(heFace(t.joinTwin(3 * f + e)));
-				if (a != b)
-					parent[size_t(std::max(a, b))] = std::min(a, b);
-			}
-	std::vector<int32_t> size(nF, 0);
-	for (size_t f = 0; f < nF; ++f)
-		parent[f] = find(int32_t(f)), ++size[size_t(parent[f])];
-	// a component of m faces saves at most m - 1: if that cannot be an eighth of the faces, the
-	// reduction is not worth a second topology (and nothing more is allocated)
-	size_t canSave = 0;
-	for (size_t f = 0; f < nF; ++f)
-		canSave += size_t(parent[f]) == f ? size_t(size[f]) - 1 : 0;
-	if (8 * canSave < nF)
-		return;
-	// each face's vertices against its seed's plane (a component that fails: bad)
-	std::vector<uint8_t> bad(nF, 0);
-	std::vector<double> devOf(std::max<size_t>(1, threads), 0.0);
-	std::vector<std::vector<int32_t>> badOf(devOf.size());
-	parallelRanges(nF, threads, [&](size_t f0, size_t f1, size_t part) {
-		double &dev = devOf[part];
-		size_t last = SIZE_MAX;    // (the seed's plane, kept while its faces follow each other)
-		size_t lastBad = SIZE_MAX; // (the last component found bad: its faces need no check)
-		Vec3 n(0, 0, 0), p(0, 0, 0);
-		for (size_t f = f0; f < f1; ++f) {
-			const size_t s = size_t(parent[f]);
-			if (size[s] < 2 || s == lastBad)
-				continue;
-			if (s != last)
-				last = s, n = t.faceNormal[s], p = t.pos(t.T[3 * s]);
-			for (size_t k = 0; k < 3; ++k) {
-				const double d = std::fabs((t.pos(t.T[3 * f + k]) - p).dot(n));
-				if (d > eps) { // (then planeDev is eps at least: what is skipped is below)
-					badOf[part].push_back(int32_t(s));
-					lastBad = s;
-					break;
-				}
-				dev = std::max(dev, d);
-			}
-		}
-	});
-	bool anyBad = false;
-	for (const std::vector<int32_t> &b : badOf)
-		for (const int32_t root : b)
-			bad[size_t(root)] = 1, anyBad = true;
-	// the regions, in the order of their seeds; a bad component grown again face by face
-	r.of.assign(nF, -1);
-	std::vector<int32_t> stack;
-	for (size_t s = 0; s < nF; ++s) {
-		const size_t root = size_t(parent[s]);
-		if (size[root] < 2 || r.of[s] != -1)
-			continue;
-		if (!bad[root] && root != s)
-			continue; // (its root came first: the component's lowest face)
-		const int32_t id = int32_t(r.seed.size());
-		if (!bad[root]) {
-			r.seed.push_back(int32_t(s));
-			r.of[s] = id;
-			continue; // (its other faces: below)
-		}
-		const Vec3 n = t.faceNormal[s], p = t.pos(t.T[3 * s]);
-		size_t members = 1;
-		stack.assign(1, int32_t(s));
-		r.of[s] = id;
-		while (!stack.empty()) {
-			const size_t f = size_t(stack.back());
-			stack.pop_back();
-			for (size_t e = 0; e < 3; ++e) {
-				const int32_t h = t.joinTwin(3 * f + e);
-				if (h < 0)
-					continue;
-				const size_t g = size_t(heFace(h));
-				if (r.of[g] != -1 || size_t(parent[g]) != root)
-					continue;
-				const Vec3 c = t.pos(t.heFrom(hePrev(h)));
-				const Vec3 a = t.pos(t.heFrom(h)), b = t.pos(t.heTo(h));
-				if (!(std::fabs((c - p).dot(n)) <= eps && ((b - a) ^ (c - a)).dot(n) > 0))
-					continue;
-				r.of[g] = id;
-				++members;
-				stack.push_back(int32_t(g));
-			}
-		}
-		if (members < 2) {
-			r.of[s] = -2; // (a region of its own: -1 below)
-			continue;
-		}
-		r.seed.push_back(int32_t(s));
-	}
-	for (size_t f = 0; f < nF; ++f) {
-		const size_t root = size_t(parent[f]);
-		if (size[root] >= 2 && !bad[root])
-			r.of[f] = r.of[root];
-		else if (r.of[f] < 0)
-			r.of[f] = -1;
-	}
-	for (const double d : devOf)
-		r.planeDev = std::max(r.planeDev, d);
-	if (anyBad) // (a bad component's faces grown again are within eps of their seeds' planes)
-		r.planeDev = std::max(r.planeDev, eps);
-	r.dead.assign(r.seed.size(), 0);
-}
 
 // Which vertices the reduced mesh keeps: every vertex of a face outside the regions, locked,
 // forced (see regionRings) or on more than two regions; a vertex inside one region (every edge
@@ -337,107 +186,127 @@ double coplanarTolerance(const Topology &t)
 	return std::max(exact, 8 * std::ldexp(1.0, std::ilogb(maxAbs) - 23));
 }
 
-} // namespace
-
-bool reduceCoplanar(const MeshView &mesh, const Topology &t, size_t threads, CoplanarReduction &out)
+// The faces of each region: those of region k are faces[start[k] .. start[k + 1]), in order.
+void regionFaces(const Topology &t, const Regions &r, std::vector<int32_t> &start,
+                 std::vector<int32_t> &faces)
 {
-	out = CoplanarReduction();
-	if (mesh.cornerUV) // (the texture check measures the coordinates of removed vertices)
-		return false;
-	const double eps = coplanarTolerance(t);
-	out.eps = eps;
-	Regions r;
-	growRegions(mesh, t, eps, threads, r);
-	if (r.seed.empty())
-		return false;
-	// the faces of each region
 	const size_t nR = r.seed.size();
-	std::vector<int32_t> start(nR + 1, 0), faces;
+	start.assign(nR + 1, 0);
 	for (size_t f = 0; f < t.nF; ++f)
 		if (r.of[f] >= 0)
 			++start[size_t(r.of[f]) + 1];
 	for (size_t k = 0; k < nR; ++k)
 		start[k + 1] += start[k];
 	faces.resize(size_t(start[nR]));
-	{
-		std::vector<int32_t> fill(start.begin(), start.end() - 1);
-		for (size_t f = 0; f < t.nF; ++f)
-			if (r.of[f] >= 0)
-				faces[size_t(fill[size_t(r.of[f])]++)] = int32_t(f);
+	std::vector<int32_t> fill(start.begin(), start.end() - 1);
+	for (size_t f = 0; f < t.nF; ++f)
+		if (r.of[f] >= 0)
+			faces[size_t(fill[size_t(r.of[f])]++)] = int32_t(f);
+}
+
+// A worker of the regions' triangulations: its triangles and scratch.
+struct RegionWorker {
+	std::vector<int32_t> tris, ringVerts, ringStart, touched, forcedList, sorted;
+	TriangulationJob job;
+	size_t forced = 0;
+	double chainDev = 0; ///< the largest distance of a dropped chain vertex from its segment
+};
+
+// The regions' triangulations: region k's (if not dead) are tris[triStart[k] .. triEnd[k]) of
+// worker triWorker[k], on input vertices; keep: the kept vertices they were made with.
+struct RegionTriangles {
+	std::vector<int32_t> start, faces; ///< regionFaces
+	std::vector<uint8_t> keep;
+	std::vector<int32_t> triStart, triEnd;
+	std::vector<uint8_t> triWorker;
+	std::vector<RegionWorker> work;
+};
+
+// Region k's rings (regionRings) projected on its seed's plane and triangulated, into w.job;
+// false if either fails.
+bool triangulateRegion(const Topology &t, Regions &r, size_t k, const RegionTriangles &rt,
+                       double eps, const std::vector<uint8_t> &forced, std::vector<uint8_t> &heSeen,
+                       RegionWorker &w)
+{
+	const std::vector<int32_t> &start = rt.start;
+	bool ok =
+	    regionRings(t, r, int32_t(k), &rt.faces[size_t(start[k])], size_t(start[k + 1] - start[k]),
+	                rt.keep, eps, forced, w.forcedList, w.forced, w.chainDev, heSeen, w.ringVerts,
+	                w.ringStart, w.touched, w.sorted);
+	for (const int32_t h : w.touched)
+		heSeen[size_t(h)] = 0;
+	w.touched.clear();
+	if (!ok)
+		return false;
+	const Vec3 N = t.faceNormal[size_t(r.seed[k])];
+	const Vec3 U = planeAxis(N);
+	const Vec3 V = N ^ U;
+	const Vec3 o = t.pos(w.ringVerts[0]);
+	w.job.xy.clear();
+	w.job.same.clear();
+	w.job.queryXY.clear();
+	w.job.ringStart = w.ringStart;
+	for (const int32_t v : w.ringVerts) {
+		const Vec3 q = t.pos(v) - o;
+		w.job.xy.push_back(q.dot(U));
+		w.job.xy.push_back(q.dot(V));
 	}
-	// kept vertices, rings and triangulations (per region, in parallel). A region that cannot be
-	// triangulated is given up (its faces stay as they are), a run of dropped chain vertices too
-	// far from its segment keeps its farthest vertex from then on; then the vertices are chosen
-	// again and the regions around a vertex whose choice changed are triangulated again.
-	std::vector<uint8_t> keep, before, forced(t.nV, 0), heSeen(3 * t.nF, 0), redo(nR, 1);
-	std::vector<int32_t> triStart(nR, 0), triEnd(nR, 0); // (into the worker's `tris`)
-	std::vector<uint8_t> triWorker(nR, 0);
+	return triangulateRings(w.job, true);
+}
+
+// The regions around a vertex whose choice changed (keep against before) are to be done again.
+void markChanged(const Topology &t, const Regions &r, const std::vector<uint8_t> &keep,
+                 const std::vector<uint8_t> &before, std::vector<uint8_t> &redo)
+{
+	std::fill(redo.begin(), redo.end(), uint8_t(0));
+	for (size_t v = 0; v < t.nV; ++v)
+		if (keep[v] != before[v])
+			for (int32_t q = t.vfStart[v]; q < t.vfStart[v + 1]; ++q) {
+				const int32_t k = r.of[size_t(t.vfFace[size_t(q)])];
+				if (k >= 0 && !r.dead[size_t(k)])
+					redo[size_t(k)] = 1;
+			}
+}
+
+// Kept vertices, rings and triangulations (per region, in parallel). A region that cannot be
+// triangulated is given up (its faces stay as they are), a run of dropped chain vertices too
+// far from its segment keeps its farthest vertex from then on; then the vertices are chosen
+// again and the regions around a vertex whose choice changed are triangulated again.
+void triangulateRegions(const Topology &t, Regions &r, double eps, size_t threads,
+                        RegionTriangles &rt)
+{
+	const size_t nR = r.seed.size();
+	std::vector<uint8_t> before, forced(t.nV, 0), heSeen(3 * t.nF, 0), redo(nR, 1);
+	rt.triStart.assign(nR, 0), rt.triEnd.assign(nR, 0); // (into the worker's `tris`)
+	rt.triWorker.assign(nR, 0);
 	const size_t workers = std::max<size_t>(1, std::min(threads, nR / 64 + 1));
-	struct Worker {
-		std::vector<int32_t> tris, ringVerts, ringStart, touched, forcedList, sorted;
-		TriangulationJob job;
-		size_t forced = 0;
-		double chainDev = 0; ///< the largest distance of a dropped chain vertex from its segment
-	};
-	std::vector<Worker> work(workers);
+	rt.work.resize(workers);
 	for (bool again = true; again;) {
 		again = false;
-		before.swap(keep);
-		chooseKept(t, r, eps, forced, threads, keep);
-		if (!before.empty()) { // the regions around a vertex whose choice changed
-			std::fill(redo.begin(), redo.end(), uint8_t(0));
-			for (size_t v = 0; v < t.nV; ++v)
-				if (keep[v] != before[v])
-					for (int32_t q = t.vfStart[v]; q < t.vfStart[v + 1]; ++q) {
-						const int32_t k = r.of[size_t(t.vfFace[size_t(q)])];
-						if (k >= 0 && !r.dead[size_t(k)])
-							redo[size_t(k)] = 1;
-					}
-		}
+		before.swap(rt.keep);
+		chooseKept(t, r, eps, forced, threads, rt.keep);
+		if (!before.empty())
+			markChanged(t, r, rt.keep, before, redo);
 		std::atomic<size_t> next(0);
 		onWorkers(workers, [&](size_t wi) {
-			Worker &w = work[wi];
+			RegionWorker &w = rt.work[wi];
 			for (size_t k; (k = next++) < nR;) {
 				if (!redo[k] || r.dead[k])
 					continue;
 				const size_t forcedBefore = w.forced;
-				bool ok = regionRings(t, r, int32_t(k), &faces[size_t(start[k])],
-				                      size_t(start[k + 1] - start[k]), keep, eps, forced,
-				                      w.forcedList, w.forced, w.chainDev, heSeen, w.ringVerts,
-				                      w.ringStart, w.touched, w.sorted);
-				for (const int32_t h : w.touched)
-					heSeen[size_t(h)] = 0;
-				w.touched.clear();
-				if (ok) {
-					const Vec3 N = t.faceNormal[size_t(r.seed[k])];
-					const Vec3 U = planeAxis(N);
-					const Vec3 V = N ^ U;
-					const Vec3 o = t.pos(w.ringVerts[0]);
-					w.job.xy.clear();
-					w.job.same.clear();
-					w.job.queryXY.clear();
-					w.job.ringStart = w.ringStart;
-					for (const int32_t v : w.ringVerts) {
-						const Vec3 q = t.pos(v) - o;
-						w.job.xy.push_back(q.dot(U));
-						w.job.xy.push_back(q.dot(V));
-					}
-					ok = triangulateRings(w.job, true);
-				}
-				if (ok) {
-					triWorker[k] = uint8_t(wi);
-					triStart[k] = int32_t(w.tris.size());
+				if (triangulateRegion(t, r, k, rt, eps, forced, heSeen, w)) {
+					rt.triWorker[k] = uint8_t(wi);
+					rt.triStart[k] = int32_t(w.tris.size());
 					for (const int32_t i : w.job.tris)
 						w.tris.push_back(w.ringVerts[size_t(i)]);
-					triEnd[k] = int32_t(w.tris.size());
-				} else {
+					rt.triEnd[k] = int32_t(w.tris.size());
+				} else if (w.forced == forcedBefore) {
 					// (a run too far from its segment: tried again with its farthest vertex kept)
-					if (w.forced == forcedBefore)
-						r.dead[k] = 1;
+					r.dead[k] = 1;
 				}
 			}
 		});
-		for (Worker &w : work) {
+		for (RegionWorker &w : rt.work) {
 			for (const int32_t v : w.forcedList)
 				forced[size_t(v)] = 1;
 			again = again || !w.forcedList.empty();
@@ -450,17 +319,57 @@ bool reduceCoplanar(const MeshView &mesh, const Topology &t, size_t threads, Cop
 				redo[k] = 0;
 			}
 	}
-	// worth a second topology only if it saves an eighth of the faces: else nothing is built
-	size_t faceCount = 0, merged = 0;
-	for (size_t f = 0; f < t.nF; ++f)
-		faceCount += !t.faceDropped[f] && (r.of[f] < 0 || r.dead[size_t(r.of[f])]);
-	for (size_t k = 0; k < nR; ++k)
-		if (!r.dead[k])
-			faceCount += size_t(triEnd[k] - triStart[k]) / 3, ++merged;
-	if (merged == 0 || 8 * faceCount >= 7 * t.nF)
-		return false;
-	// the reduced faces, in the order of each region's first face
-	std::vector<uint8_t> emitted(nR, 0);
+}
+
+// The reduced faces of region k (first face f): its triangles, each with its share of the input
+// samples the region stands for (its faces and dropped vertices, by area) and a corner of the
+// region at each of its vertices. stamp: per vertex, region + 1 that counted it.
+void emitRegion(const Topology &t, const Regions &r, const RegionTriangles &rt, int32_t k, size_t f,
+                std::vector<int32_t> &stamp, CoplanarReduction &out)
+{
+	const std::vector<int32_t> &tris = rt.work[rt.triWorker[size_t(k)]].tris;
+	const std::vector<int32_t> &start = rt.start, &faces = rt.faces;
+	double samples = double(start[size_t(k) + 1] - start[size_t(k)]), area = 0;
+	for (int32_t i = start[size_t(k)]; i < start[size_t(k) + 1]; ++i) {
+		const int32_t g = faces[size_t(i)];
+		area += t.faceArea[size_t(g)];
+		for (int32_t c = 0; c < 3; ++c) {
+			const int32_t v = t.T[size_t(3 * g + c)];
+			if (!rt.keep[size_t(v)] && stamp[size_t(v)] != k + 1) {
+				stamp[size_t(v)] = k + 1;
+				samples += 1;
+			}
+		}
+	}
+	for (int32_t i = rt.triStart[size_t(k)]; i < rt.triEnd[size_t(k)]; i += 3) {
+		const Vec3 a = t.pos(tris[size_t(i)]), b = t.pos(tris[size_t(i + 1)]),
+		           c = t.pos(tris[size_t(i + 2)]);
+		const double share = area > 0 ? 0.5 * ((b - a) ^ (c - a)).Norm() / area : 0;
+		out.weight.push_back(float(samples * share));
+		out.faceOf.push_back(int32_t(f));
+		for (int32_t c = 0; c < 3; ++c) {
+			const int32_t v = tris[size_t(i + c)];
+			out.triangles.push_back(v);
+			// a corner of the region at v (every kept ring vertex is a vertex of its faces)
+			int32_t corner = -1;
+			for (int32_t q = t.vfStart[size_t(v)]; q < t.vfStart[size_t(v) + 1] && corner < 0;
+			     ++q) {
+				const int32_t g = t.vfFace[size_t(q)];
+				if (r.of[size_t(g)] == k)
+					for (int32_t j = 0; j < 3; ++j)
+						if (t.T[size_t(3 * g + j)] == v)
+							corner = 3 * g + j;
+			}
+			out.cornerOf.push_back(corner);
+		}
+	}
+}
+
+// The reduced faces, in the order of each region's first face (on input vertex numbers).
+void emitReduced(const Topology &t, const Regions &r, const RegionTriangles &rt,
+                 CoplanarReduction &out)
+{
+	std::vector<uint8_t> emitted(r.seed.size(), 0);
 	std::vector<int32_t> stamp(t.nV, 0); // (region + 1 that counted a dropped vertex)
 	out.reducedOf.assign(t.nF, -1);
 	for (size_t f = 0; f < t.nF; ++f) {
@@ -478,51 +387,19 @@ bool reduceCoplanar(const MeshView &mesh, const Topology &t, size_t threads, Cop
 			continue;
 		}
 		if (emitted[size_t(k)]) {
-			out.reducedOf[f] = out.reducedOf[size_t(faces[size_t(start[size_t(k)])])];
+			out.reducedOf[f] = out.reducedOf[size_t(rt.faces[size_t(rt.start[size_t(k)])])];
 			continue;
 		}
 		emitted[size_t(k)] = 1;
 		++out.regions;
 		out.reducedOf[f] = int32_t(out.faceOf.size());
-		const std::vector<int32_t> &tris = work[triWorker[size_t(k)]].tris;
-		// the input samples the region stands for (its faces and dropped vertices), shared out
-		// by area
-		double samples = double(start[size_t(k) + 1] - start[size_t(k)]), area = 0;
-		for (int32_t i = start[size_t(k)]; i < start[size_t(k) + 1]; ++i) {
-			const int32_t g = faces[size_t(i)];
-			area += t.faceArea[size_t(g)];
-			for (int32_t c = 0; c < 3; ++c) {
-				const int32_t v = t.T[size_t(3 * g + c)];
-				if (!keep[size_t(v)] && stamp[size_t(v)] != k + 1) {
-					stamp[size_t(v)] = k + 1;
-					samples += 1;
-				}
-			}
-		}
-		for (int32_t i = triStart[size_t(k)]; i < triEnd[size_t(k)]; i += 3) {
-			const Vec3 a = t.pos(tris[size_t(i)]), b = t.pos(tris[size_t(i + 1)]),
-			           c = t.pos(tris[size_t(i + 2)]);
-			const double share = area > 0 ? 0.5 * ((b - a) ^ (c - a)).Norm() / area : 0;
-			out.weight.push_back(float(samples * share));
-			out.faceOf.push_back(int32_t(f));
-			for (int32_t c = 0; c < 3; ++c) {
-				const int32_t v = tris[size_t(i + c)];
-				out.triangles.push_back(v);
-				// a corner of the region at v (every kept ring vertex is a vertex of its faces)
-				int32_t corner = -1;
-				for (int32_t q = t.vfStart[size_t(v)]; q < t.vfStart[size_t(v) + 1] && corner < 0;
-				     ++q) {
-					const int32_t g = t.vfFace[size_t(q)];
-					if (r.of[size_t(g)] == k)
-						for (int32_t j = 0; j < 3; ++j)
-							if (t.T[size_t(3 * g + j)] == v)
-								corner = 3 * g + j;
-				}
-				out.cornerOf.push_back(corner);
-			}
-		}
+		emitRegion(t, r, rt, k, f, stamp, out);
 	}
-	// the vertices the reduced faces use, renumbered in input order
+}
+
+// The vertices the reduced faces use, renumbered in input order.
+void compactVertices(const Topology &t, CoplanarReduction &out)
+{
 	std::vector<int32_t> compact(t.nV, -1);
 	for (const int32_t v : out.triangles)
 		compact[size_t(v)] = 0;
@@ -535,10 +412,40 @@ bool reduceCoplanar(const MeshView &mesh, const Topology &t, size_t threads, Cop
 		}
 	for (int32_t &v : out.triangles)
 		v = compact[size_t(v)];
+}
+
+} // namespace
+
+bool reduceCoplanar(const MeshView &mesh, const Topology &t, size_t threads, CoplanarReduction &out)
+{
+	out = CoplanarReduction();
+	if (mesh.cornerUV) // (the texture check measures the coordinates of removed vertices)
+		return false;
+	const double eps = coplanarTolerance(t);
+	out.eps = eps;
+	Regions r;
+	growRegions(mesh, t, eps, threads, r);
+	if (r.seed.empty())
+		return false;
+	const size_t nR = r.seed.size();
+	RegionTriangles rt;
+	regionFaces(t, r, rt.start, rt.faces);
+	triangulateRegions(t, r, eps, threads, rt);
+	// worth a second topology only if it saves an eighth of the faces: else nothing is built
+	size_t faceCount = 0, merged = 0;
+	for (size_t f = 0; f < t.nF; ++f)
+		faceCount += !t.faceDropped[f] && (r.of[f] < 0 || r.dead[size_t(r.of[f])]);
+	for (size_t k = 0; k < nR; ++k)
+		if (!r.dead[k])
+			faceCount += size_t(rt.triEnd[k] - rt.triStart[k]) / 3, ++merged;
+	if (merged == 0 || 8 * faceCount >= 7 * t.nF)
+		return false;
+	emitReduced(t, r, rt, out);
+	compactVertices(t, out);
 	// (each surface within planeDev of each region's plane, the outlines within chainDev of each
 	// other in it)
 	double chainDev = 0;
-	for (const Worker &w : work)
+	for (const RegionWorker &w : rt.work)
 		chainDev = std::max(chainDev, w.chainDev);
 	out.distance = 2 * r.planeDev + chainDev;
 	return true;

@@ -63,6 +63,102 @@ void markNesting(CDT &cdt)
 
 bool inside(CDT::Face_handle f) { return f->info().nesting % 2 == 1; }
 
+// Inserts the points (one vertex for points that job.same says are one): vh[i] the vertex of
+// point i; `distinct` the points that are vertices of their own. False if two points project to
+// the same place.
+bool insertPoints(const TriangulationJob &job, CDT &cdt, std::vector<CDT::Vertex_handle> &vh,
+                  size_t &distinct)
+{
+	const size_t n = vh.size();
+	CDT::Vertex_handle hint;
+	distinct = n;
+	for (size_t i = 0; i < n; ++i) {
+		if (i < job.same.size() && job.same[i] >= 0) { // a ring touching itself: one vertex
+			vh[i] = vh[size_t(job.same[i])];
+			--distinct;
+			continue;
+		}
+		const size_t before = cdt.number_of_vertices();
+		vh[i] = cdt.insert(Point(job.xy[2 * i], job.xy[2 * i + 1]),
+		                   hint == CDT::Vertex_handle() ? CDT::Face_handle() : hint->face());
+		if (cdt.number_of_vertices() == before)
+			return false; // two ring vertices project to the same point
+		vh[i]->info() = int32_t(i);
+		hint = vh[i];
+	}
+	return true;
+}
+
+// Calls f(i, j) for every ring edge i -> j (local vertex indices); false stops (then false).
+template <class Fn>
+bool allRingEdges(const TriangulationJob &job, Fn f)
+{
+	for (size_t r = 0; r + 1 < job.ringStart.size(); ++r) {
+		const int32_t b = job.ringStart[r], e = job.ringStart[r + 1];
+		for (int32_t i = b; i < e; ++i)
+			if (!f(size_t(i), size_t(i + 1 < e ? i + 1 : b)))
+				return false;
+	}
+	return true;
+}
+
+// Every ring edge must be an edge of the triangulation (not split by a vertex lying on it) with
+// the superface on its left: rings are traced with the superface on their left.
+bool ringsBoundInside(const TriangulationJob &job, const CDT &cdt,
+                      const std::vector<CDT::Vertex_handle> &vh)
+{
+	return allRingEdges(job, [&](size_t i, size_t j) {
+		CDT::Face_handle fh;
+		int idx;
+		if (!cdt.is_edge(vh[i], vh[j], fh, idx))
+			return false;
+		CDT::Face_handle left = fh, right = fh->neighbor(idx);
+		if (fh->vertex(CDT::ccw(idx)) != vh[i])
+			std::swap(left, right);
+		return !cdt.is_infinite(left) && inside(left) && !inside(right);
+	});
+}
+
+// The triangles inside the domain into job.tris, with their ring edges' bits.
+void insideTriangles(CDT &cdt, TriangulationJob &job)
+{
+	for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+		if (!inside(f))
+			continue;
+		f->info().tri = int(job.tris.size() / 3);
+		uint8_t bits = 0;
+		for (int k = 0; k < 3; ++k) {
+			job.tris.push_back(f->vertex(k)->info());
+			// our edge k = (v_k, v_k+1) is CGAL's edge opposite vertex k+2
+			if (f->is_constrained((k + 2) % 3))
+				bits |= uint8_t(1u << k);
+		}
+		job.constrained.push_back(bits);
+	}
+}
+
+// The triangle of each query. A query just outside the domain (an input face cut off by a
+// straightened border) is given the inside triangle across the ring edge of the face it falls
+// in, if any.
+void locateQueries(const CDT &cdt, TriangulationJob &job)
+{
+	CDT::Face_handle loc;
+	for (size_t q = 0; q < job.queryTri.size(); ++q) {
+		loc = cdt.locate(Point(job.queryXY[2 * q], job.queryXY[2 * q + 1]), loc);
+		if (inside(loc) && !cdt.is_infinite(loc)) {
+			job.queryTri[q] = loc->info().tri;
+			continue;
+		}
+		for (int i = 0; i < 3; ++i) {
+			CDT::Face_handle n = loc->neighbor(i);
+			if (loc->is_constrained(i) && !cdt.is_infinite(n) && inside(n)) {
+				job.queryTri[q] = n->info().tri;
+				break;
+			}
+		}
+	}
+}
+
 } // namespace
 
 bool triangulateRings(TriangulationJob &job, bool smallRings)
@@ -79,33 +175,10 @@ bool triangulateRings(TriangulationJob &job, bool smallRings)
 	try {
 		CDT cdt;
 		std::vector<CDT::Vertex_handle> vh(n);
-		CDT::Vertex_handle hint;
 		size_t distinct = n; // (points that are vertices of their own)
-		for (size_t i = 0; i < n; ++i) {
-			if (i < job.same.size() && job.same[i] >= 0) { // a ring touching itself: one vertex
-				vh[i] = vh[size_t(job.same[i])];
-				--distinct;
-				continue;
-			}
-			const size_t before = cdt.number_of_vertices();
-			vh[i] = cdt.insert(Point(job.xy[2 * i], job.xy[2 * i + 1]),
-			                   hint == CDT::Vertex_handle() ? CDT::Face_handle() : hint->face());
-			if (cdt.number_of_vertices() == before)
-				return false; // two ring vertices project to the same point
-			vh[i]->info() = int32_t(i);
-			hint = vh[i];
-		}
-		// calls f(i, j) for every ring edge i -> j (local vertex indices); false stops
-		auto allRingEdges = [&](auto f) {
-			for (size_t r = 0; r + 1 < job.ringStart.size(); ++r) {
-				const int32_t b = job.ringStart[r], e = job.ringStart[r + 1];
-				for (int32_t i = b; i < e; ++i)
-					if (!f(size_t(i), size_t(i + 1 < e ? i + 1 : b)))
-						return false;
-			}
-			return true;
-		};
-		const bool constrained = allRingEdges([&](size_t i, size_t j) {
+		if (!insertPoints(job, cdt, vh, distinct))
+			return false;
+		const bool constrained = allRingEdges(job, [&](size_t i, size_t j) {
 			CDT::Face_handle fh;
 			int idx;
 			if (cdt.is_edge(vh[i], vh[j], fh, idx) && fh->is_constrained(idx))
@@ -120,50 +193,10 @@ bool triangulateRings(TriangulationJob &job, bool smallRings)
 		if (cdt.dimension() != 2)
 			return false; // every ring vertex projects onto one line: no area to triangulate
 		markNesting(cdt);
-		// Every ring edge must be an edge of the triangulation (not split by a vertex lying on it)
-		// with the superface on its left: rings are traced with the superface on their left.
-		const bool leftInside = allRingEdges([&](size_t i, size_t j) {
-			CDT::Face_handle fh;
-			int idx;
-			if (!cdt.is_edge(vh[i], vh[j], fh, idx))
-				return false;
-			CDT::Face_handle left = fh, right = fh->neighbor(idx);
-			if (fh->vertex(CDT::ccw(idx)) != vh[i])
-				std::swap(left, right);
-			return !cdt.is_infinite(left) && inside(left) && !inside(right);
-		});
-		if (!leftInside)
+		if (!ringsBoundInside(job, cdt, vh))
 			return false;
-		for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
-			if (!inside(f))
-				continue;
-			f->info().tri = int(job.tris.size() / 3);
-			uint8_t bits = 0;
-			for (int k = 0; k < 3; ++k) {
-				job.tris.push_back(f->vertex(k)->info());
-				// our edge k = (v_k, v_k+1) is CGAL's edge opposite vertex k+2
-				if (f->is_constrained((k + 2) % 3))
-					bits |= uint8_t(1u << k);
-			}
-			job.constrained.push_back(bits);
-		}
-		// A query just outside the domain (an input face cut off by a straightened border) is
-		// given the inside triangle across the ring edge of the face it falls in, if any.
-		CDT::Face_handle loc;
-		for (size_t q = 0; q < job.queryTri.size(); ++q) {
-			loc = cdt.locate(Point(job.queryXY[2 * q], job.queryXY[2 * q + 1]), loc);
-			if (inside(loc) && !cdt.is_infinite(loc)) {
-				job.queryTri[q] = loc->info().tri;
-				continue;
-			}
-			for (int i = 0; i < 3; ++i) {
-				CDT::Face_handle n = loc->neighbor(i);
-				if (loc->is_constrained(i) && !cdt.is_infinite(n) && inside(n)) {
-					job.queryTri[q] = n->info().tri;
-					break;
-				}
-			}
-		}
+		insideTriangles(cdt, job);
+		locateQueries(cdt, job);
 	} catch (...) {
 		return false; // crossing ring edges (or any CGAL precondition): not a valid domain
 	}

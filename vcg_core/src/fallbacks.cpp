@@ -312,27 +312,15 @@ void applyFallbacks(const Topology &t, const std::vector<Partition> &finer,
 	renumber(t, base, spare.split, parentOf, threads, p, faces, cache.prevOf, spare);
 }
 
-// The previous round's triangles of a superface are reused when its faces are the same (its first
-// face's previous superface, and as many faces: partitions only get finer between rounds) and its
-// border edges (the triangles' border-flagged edges, directed with the superface on their left)
-// are this round's ring edges between kept vertices: every successful triangulation has exactly
-// its rings' edges as border edges, so this compares the kept outlines without storing them (as a
-// multiset: a different ring start or order would describe the same domain).
-bool reuseTriangles(const TriangulationInput &in, int32_t s, const Cached &now,
-                    const ReuseCache &cache, Scratch &w, ChunkOut &o)
+bool sameKeptOutline(const TriangulationInput &in, int32_t s, const std::vector<int32_t> &tris,
+                     const std::vector<uint8_t> &bits, int32_t begin, int32_t end, Scratch &w)
 {
-	if (cache.prev.empty())
-		return false;
-	const Cached &c = cache.prev[size_t(cache.prevOf[size_t(s)])];
-	if (!c.ok || c.faceCount != now.faceCount) // (same count, same faces: see above)
-		return false;
 	w.edgesBefore.clear();
-	for (int32_t k = c.triBegin; k < c.triEnd; ++k)
+	for (int32_t k = begin; k < end; ++k)
 		for (int e = 0; e < 3; ++e)
-			if (cache.triBorder[size_t(k)] & (1u << e))
-				w.edgesBefore.push_back(
-				    directedEdge(cache.tris[3 * size_t(k) + size_t(e)],
-				                 cache.tris[3 * size_t(k) + size_t(e + 1) % 3]));
+			if (bits[size_t(k)] & (1u << e))
+				w.edgesBefore.push_back(directedEdge(tris[3 * size_t(k) + size_t(e)],
+				                                     tris[3 * size_t(k) + size_t(e + 1) % 3]));
 	w.edgesNow.clear();
 	for (int32_t r = in.rings.sfStart[size_t(s)]; r < in.rings.sfStart[size_t(s) + 1]; ++r) {
 		int32_t first = -1, prev = -1;
@@ -355,7 +343,24 @@ bool reuseTriangles(const TriangulationInput &in, int32_t s, const Cached &now,
 		return false;
 	std::sort(w.edgesNow.begin(), w.edgesNow.end());
 	std::sort(w.edgesBefore.begin(), w.edgesBefore.end());
-	if (w.edgesNow != w.edgesBefore)
+	return w.edgesNow == w.edgesBefore;
+}
+
+// The previous round's triangles of a superface are reused when its faces are the same (its first
+// face's previous superface, and as many faces: partitions only get finer between rounds) and its
+// border edges (the triangles' border-flagged edges, directed with the superface on their left)
+// are this round's ring edges between kept vertices: every successful triangulation has exactly
+// its rings' edges as border edges, so this compares the kept outlines without storing them (as a
+// multiset: a different ring start or order would describe the same domain).
+bool reuseTriangles(const TriangulationInput &in, int32_t s, const Cached &now,
+                    const ReuseCache &cache, Scratch &w, ChunkOut &o)
+{
+	if (cache.prev.empty())
+		return false;
+	const Cached &c = cache.prev[size_t(cache.prevOf[size_t(s)])];
+	if (!c.ok || c.faceCount != now.faceCount) // (same count, same faces: see above)
+		return false;
+	if (!sameKeptOutline(in, s, cache.tris, cache.triBorder, c.triBegin, c.triEnd, w))
 		return false;
 	o.tris.insert(o.tris.end(), cache.tris.begin() + 3 * c.triBegin,
 	              cache.tris.begin() + 3 * c.triEnd);

@@ -41,6 +41,9 @@ private:
 	std::vector<int32_t> adj_;  ///< per corner of T: the triangle across the edge from it
 	std::vector<Node> nodes_;
 	Vec3 v(int32_t f, int k) const;
+	void keepTriangles(size_t nT);
+	void linkEdges(size_t nT);
+	void buildNodes();
 };
 
 /// Which bound of a piece held it (hausdorff.cpp): its corners (Lipschitz, convexity), the cover

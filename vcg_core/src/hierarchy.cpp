@@ -107,108 +107,149 @@ void sortByAreaDescending(const std::vector<double> &area, std::vector<int32_t> 
 	}
 }
 
-} // namespace
+// 2.5 The accretion of coarserPartition: groups of `fine`'s superfaces grown from seeds over the
+// superface adjacency, each group a superface of `out` (its cell and origin pushed as it is
+// made; group[s] = the group of superface s, -1 = none yet).
+class Accretion {
+public:
+	Accretion(const Topology &t, const Partition &fine, Partition &out, int8_t grownOrigin)
+	    : t_(t), fine_(fine), out_(out), grownOrigin_(grownOrigin), n_(fine.count()),
+	      group_(n_, -1), members_(n_, 0), firstMember_(n_, -1)
+	{
+		superfaceAdjacency(t, fine, start_, adj_);
+	}
+	void centerSeeds();
+	void borderSeeds();
+	void finish();
+	const std::vector<int32_t> &group() const { return group_; }
 
-void coarserPartition(const Topology &t, const Partition &fine, Partition &out, int8_t grownOrigin)
-{
-	const size_t n = fine.count();
-	std::vector<int32_t> start, adj;
-	superfaceAdjacency(t, fine, start, adj);
-
-	std::vector<int32_t> group(n, -1), members(n, 0), firstMember(n, -1);
-	out.level = fine.level - 1;
-	out.cell.clear();
-	out.origin.clear();
-	std::vector<int32_t> queue;
+private:
+	const Topology &t_;
+	const Partition &fine_;
+	Partition &out_;
+	const int8_t grownOrigin_;
+	const size_t n_;
+	std::vector<int32_t> start_, adj_; ///< superfaceAdjacency
+	std::vector<int32_t> group_;
+	std::vector<int32_t> members_, firstMember_; ///< per group
+	std::vector<int32_t> queue_;
 
 	// Grows the superface seeded at `seed`, absorbing adjacent unassigned superfaces accepted by
 	// `accepts` (breadth first, in adjacency order: deterministic).
-	auto grow = [&](int32_t seed, auto accepts) {
-		const int32_t g = int32_t(out.cell.size());
-		out.cell.push_back(parentKey(fine.cell[size_t(seed)]));
-		out.origin.push_back(grownOrigin);
-		group[size_t(seed)] = g;
-		firstMember[size_t(g)] = seed;
-		members[size_t(g)] = 1;
-		queue.assign(1, seed);
-		for (size_t q = 0; q < queue.size(); ++q) {
-			const int32_t s = queue[q];
-			for (int32_t i = start[size_t(s)]; i < start[size_t(s) + 1]; ++i) {
-				const int32_t w = adj[size_t(i)];
-				if (group[size_t(w)] >= 0 || fine.cell[size_t(w)] == kInvalidCell ||
-				    !accepts(fine.cell[size_t(w)]))
+	template <class Accepts>
+	void grow(int32_t seed, Accepts accepts)
+	{
+		const int32_t g = int32_t(out_.cell.size());
+		out_.cell.push_back(parentKey(fine_.cell[size_t(seed)]));
+		out_.origin.push_back(grownOrigin_);
+		group_[size_t(seed)] = g;
+		firstMember_[size_t(g)] = seed;
+		members_[size_t(g)] = 1;
+		queue_.assign(1, seed);
+		for (size_t q = 0; q < queue_.size(); ++q) {
+			const int32_t s = queue_[q];
+			for (int32_t i = start_[size_t(s)]; i < start_[size_t(s) + 1]; ++i) {
+				const int32_t w = adj_[size_t(i)];
+				if (group_[size_t(w)] >= 0 || fine_.cell[size_t(w)] == kInvalidCell ||
+				    !accepts(fine_.cell[size_t(w)]))
 					continue;
-				group[size_t(w)] = g;
-				++members[size_t(g)];
-				queue.push_back(w);
+				group_[size_t(w)] = g;
+				++members_[size_t(g)];
+				queue_.push_back(w);
 			}
 		}
-	};
+	}
+	void growBorderSeed(int32_t s, int m);
+};
 
-	// (1) seeds in center children; they absorb superfaces of their brother cells
-	for (size_t s = 0; s < n; ++s) {
-		const CellKey key = fine.cell[s];
-		if (group[s] >= 0 || key == kInvalidCell || !isCenterChild(unpackCell(key)))
+// (1) seeds in center children; they absorb superfaces of their brother cells
+void Accretion::centerSeeds()
+{
+	for (size_t s = 0; s < n_; ++s) {
+		const CellKey key = fine_.cell[s];
+		if (group_[s] >= 0 || key == kInvalidCell || !isCenterChild(unpackCell(key)))
 			continue;
 		const CellKey parent = parentKey(key);
 		grow(int32_t(s), [&](CellKey c) { return parentKey(c) == parent; });
 	}
+}
 
-	// (2) seeds in border children, largest first; they absorb superfaces whose cells are in
-	// the seed cell's 8-neighbourhood (which may cross into a neighbouring parent)
-	std::vector<double> area(n, 0.0);
-	for (size_t f = 0; f < t.nF; ++f)
-		area[size_t(fine.label[f])] += t.faceArea[f];
+// Border seed s absorbs the superfaces whose cells are in its cell's 8-neighbourhood (which may
+// cross into a neighbouring parent); m = meshNum(fine.level).
+void Accretion::growBorderSeed(int32_t s, int m)
+{
+	bool open = false; // any neighbour left to absorb? (else skip the neighbourhood)
+	for (int32_t i = start_[size_t(s)]; i < start_[size_t(s) + 1] && !open; ++i)
+		open = group_[size_t(adj_[size_t(i)])] < 0 &&
+		       fine_.cell[size_t(adj_[size_t(i)])] != kInvalidCell;
+	if (!open) {
+		grow(s, [](CellKey) { return false; });
+		return;
+	}
+	const Cell c = unpackCell(fine_.cell[size_t(s)]);
+	if (c.i > 0 && c.j > 0 && c.i < m - 1 && c.j < m - 1) { // inside its cube face
+		grow(s, [&](CellKey w) {
+			const Cell d = unpackCell(w);
+			return d.face == c.face && std::abs(d.i - c.i) <= 1 && std::abs(d.j - c.j) <= 1;
+		});
+		return;
+	}
+	Cell nb[8];
+	const int cnt = cellNeighbours(c, fine_.level, nb);
+	CellKey keys[9];
+	keys[0] = packCell(c);
+	for (int k = 0; k < cnt; ++k)
+		keys[k + 1] = packCell(nb[k]);
+	grow(s, [&](CellKey w) { return std::find(keys, keys + cnt + 1, w) != keys + cnt + 1; });
+}
+
+// (2) seeds in border children, largest first; they absorb superfaces whose cells are in the
+// seed cell's 8-neighbourhood (which may cross into a neighbouring parent)
+void Accretion::borderSeeds()
+{
+	std::vector<double> area(n_, 0.0);
+	for (size_t f = 0; f < t_.nF; ++f)
+		area[size_t(fine_.label[f])] += t_.faceArea[f];
 	std::vector<int32_t> order; // largest first, then by id
-	for (size_t s = 0; s < n; ++s)
-		if (group[s] < 0 && fine.cell[s] != kInvalidCell)
+	for (size_t s = 0; s < n_; ++s)
+		if (group_[s] < 0 && fine_.cell[s] != kInvalidCell)
 			order.push_back(int32_t(s));
 	sortByAreaDescending(area, order);
 	std::vector<double>().swap(area);
-	const int m = meshNum(fine.level);
-	for (const int32_t s : order) {
-		if (group[size_t(s)] >= 0)
-			continue;
-		bool open = false; // any neighbour left to absorb? (else skip the neighbourhood)
-		for (int32_t i = start[size_t(s)]; i < start[size_t(s) + 1] && !open; ++i)
-			open = group[size_t(adj[size_t(i)])] < 0 &&
-			       fine.cell[size_t(adj[size_t(i)])] != kInvalidCell;
-		if (!open) {
-			grow(s, [](CellKey) { return false; });
-			continue;
-		}
-		const Cell c = unpackCell(fine.cell[size_t(s)]);
-		if (c.i > 0 && c.j > 0 && c.i < m - 1 && c.j < m - 1) { // inside its cube face
-			grow(s, [&](CellKey w) {
-				const Cell d = unpackCell(w);
-				return d.face == c.face && std::abs(d.i - c.i) <= 1 && std::abs(d.j - c.j) <= 1;
-			});
-			continue;
-		}
-		Cell nb[8];
-		const int cnt = cellNeighbours(c, fine.level, nb);
-		CellKey keys[9];
-		keys[0] = packCell(c);
-		for (int k = 0; k < cnt; ++k)
-			keys[k + 1] = packCell(nb[k]);
-		grow(s, [&](CellKey w) { return std::find(keys, keys + cnt + 1, w) != keys + cnt + 1; });
-	}
+	const int m = meshNum(fine_.level);
+	for (const int32_t s : order)
+		if (group_[size_t(s)] < 0)
+			growBorderSeed(s, m);
+}
 
+void Accretion::finish()
+{
 	// frozen superfaces (invalid input faces) stay alone
-	for (size_t s = 0; s < n; ++s)
-		if (group[s] < 0) {
-			group[s] = int32_t(out.cell.size());
-			out.cell.push_back(kInvalidCell);
-			out.origin.push_back(-1);
+	for (size_t s = 0; s < n_; ++s)
+		if (group_[s] < 0) {
+			group_[s] = int32_t(out_.cell.size());
+			out_.cell.push_back(kInvalidCell);
+			out_.origin.push_back(-1);
 		}
-
 	// (3) a superface made of one finer superface is that superface: keep its origin so that a
 	// fallback split goes straight to its own children
-	for (size_t g = 0; g < out.cell.size(); ++g)
-		if (members[g] == 1 && firstMember[g] >= 0)
-			out.origin[g] = fine.origin[size_t(firstMember[g])];
+	for (size_t g = 0; g < out_.cell.size(); ++g)
+		if (members_[g] == 1 && firstMember_[g] >= 0)
+			out_.origin[g] = fine_.origin[size_t(firstMember_[g])];
+}
 
-	relabelCanonical(fine, group, out);
+} // namespace
+
+void coarserPartition(const Topology &t, const Partition &fine, Partition &out, int8_t grownOrigin)
+{
+	out.level = fine.level - 1;
+	out.cell.clear();
+	out.origin.clear();
+	Accretion acc(t, fine, out, grownOrigin);
+	acc.centerSeeds();
+	acc.borderSeeds();
+	acc.finish();
+	relabelCanonical(fine, acc.group(), out);
 }
 
 namespace {
@@ -312,31 +353,37 @@ bool sameCoarserPartition(const Partition &fine,
 	return true;
 }
 
-void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
+namespace {
+
+// One node per superface for mergeAcrossCells' greedy union (one cache line each: the loop is
+// bound by random memory accesses).
+struct AcrossNode {
+	Vec3 mean;
+	double area, radius;
+	double cosRoom; ///< cos(limit - radius): how close the merged mean must stay to mean
+	float seedArea; ///< area of the part whose cell the union keeps
+	int32_t parent, members;
+	CellKey cell;
+};
+
+// A candidate pair of mergeAcrossCells: adjacent superfaces a < b, their means' dot product.
+struct AcrossPair {
+	int32_t a, b;
+	double dot;
+};
+
+inline double angleOfCos(double cosine) { return std::acos(std::max(-1.0, std::min(1.0, cosine))); }
+
+// The nodes, filled with each superface's area, area-weighted mean normal and the cone around it
+// holding its normals (its radius); limit: the cone half-angle of a union.
+std::unique_ptr<AcrossNode[]> measureNodes(const Topology &t, const Partition &p, double limit)
 {
-	p.partLabel.clear(), p.partCell.clear(), p.partOrigin.clear();
-	p.nodeArea.clear(), p.nodeRadius.clear(), p.nodeMean.clear();
 	const size_t n = p.count();
-	if (n < 2)
-		return;
-	const double limit = acrossHalfAngle(boundDeg); // cone half-angle
-	auto angle = [](double cosine) { return std::acos(std::max(-1.0, std::min(1.0, cosine))); };
-	// One node per superface for the greedy union below (one cache line each: the loop is bound
-	// by random memory accesses), filled first with the superface's area, area-weighted mean
-	// normal and the cone around it holding its normals (its radius).
-	struct Node {
-		Vec3 mean;
-		double area, radius;
-		double cosRoom; ///< cos(limit - radius): how close the merged mean must stay to mean
-		float seedArea; ///< area of the part whose cell the union keeps
-		int32_t parent, members;
-		CellKey cell;
-	};
-	std::unique_ptr<Node[]> node(new Node[n]); // (not zeroed: every field is set below)
+	std::unique_ptr<AcrossNode[]> node(new AcrossNode[n]); // (not zeroed: every field is set)
 	for (size_t s = 0; s < n; ++s)
 		node[s].mean = Vec3(0, 0, 0), node[s].area = 0, node[s].radius = 1.0; // (radius: min dot)
 	for (size_t f = 0; f < t.nF; ++f) {
-		Node &x = node[size_t(p.label[f])];
+		AcrossNode &x = node[size_t(p.label[f])];
 		Vec3 normal;
 		double area;
 		t.faceNormal.normalAndArea(f, normal, area);
@@ -348,28 +395,31 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 			node[s].mean.Normalize();
 	for (size_t f = 0; f < t.nF; ++f)
 		if (t.faceValid[f]) {
-			Node &x = node[size_t(p.label[f])];
+			AcrossNode &x = node[size_t(p.label[f])];
 			x.radius = std::min(x.radius, x.mean.dot(t.faceNormal[f]));
 		}
 	const double cosLimit = std::cos(limit);
 	for (size_t s = 0; s < n; ++s) {
-		Node &x = node[s];
-		x.radius = x.radius < 1.0 ? angle(x.radius) : 0.0;
+		AcrossNode &x = node[s];
+		x.radius = x.radius < 1.0 ? angleOfCos(x.radius) : 0.0;
 		x.cosRoom = x.radius > 0 ? std::cos(std::max(0.0, limit - x.radius)) : cosLimit;
 		x.seedArea = float(x.area);
 		x.parent = int32_t(s), x.members = 1, x.cell = p.cell[s];
 	}
-	// candidate pairs: adjacent (one per shared manifold edge; repeats are harmless), and their
-	// cones fit in one of half-angle `limit`
-	struct Pair {
-		int32_t a, b;
-		double dot;
-	};
+	return node;
+}
+
+// Candidate pairs: adjacent (one per shared manifold edge; repeats are harmless), and their cones
+// fit in one of half-angle `limit`.
+std::vector<AcrossPair> acrossPairs(const Topology &t, const Partition &p, const AcrossNode *node,
+                                    double limit)
+{
+	const size_t n = p.count();
 	std::vector<uint8_t> mergeable(n);
 	for (size_t s = 0; s < n; ++s)
 		mergeable[s] = acrossMergeable(p.cell[s], node[s].mean, node[s].radius, limit);
 	const double cos2Limit = std::cos(2 * limit);
-	std::vector<Pair> pairs;
+	std::vector<AcrossPair> pairs;
 	for (size_t h = 0; h < t.twin.size(); ++h) {
 		const int32_t tw = t.joinTwin(h);
 		if (tw < int32_t(h))
@@ -380,20 +430,23 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 		double d;
 		if (acrossPair(node[size_t(s)].mean, node[size_t(s)].radius, node[size_t(w)].mean,
 		               node[size_t(w)].radius, limit, cos2Limit, d))
-			pairs.push_back(Pair{std::min(s, w), std::max(s, w), d});
+			pairs.push_back(AcrossPair{std::min(s, w), std::max(s, w), d});
 	}
-	std::vector<uint8_t>().swap(mergeable);
-	auto keepNodes = [&] { // (no union: the nodes as measured, for sameCoarserPartition)
-		p.nodeArea.resize(n), p.nodeRadius.resize(n), p.nodeMean.resize(n);
-		for (size_t s = 0; s < n; ++s)
-			p.nodeArea[s] = node[s].area, p.nodeRadius[s] = node[s].radius,
-			p.nodeMean[s] = node[s].mean;
-	};
-	if (pairs.empty()) {
-		keepNodes();
-		return;
-	}
-	// closest mean normals first (stable counting sort on the quantized angle)
+	return pairs;
+}
+
+inline int32_t findNode(AcrossNode *node, int32_t s)
+{
+	while (node[size_t(s)].parent != s)
+		s = node[size_t(s)].parent = node[size_t(node[size_t(s)].parent)].parent;
+	return s;
+}
+
+// Greedy union, closest mean normals first (stable counting sort on the quantized angle); a union
+// keeps its normals in a cone of half-angle `limit` (any two within the level's bound, as inside
+// one cell).
+void greedyUnion(const std::vector<AcrossPair> &pairs, double limit, AcrossNode *node)
+{
 	const double span = 1.0 - std::cos(2 * limit) + 1e-12;
 	constexpr size_t kBuckets = 16; // (few: pairs keep their memory order inside a bucket)
 	std::vector<int32_t> bstart, order;
@@ -404,25 +457,19 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 		    return int32_t(std::min(double(kBuckets - 1), std::max(0.0, x)));
 	    },
 	    bstart, order);
-	// greedy union; a union keeps its normals in a cone of half-angle `limit` (any two within
-	// the level's bound, as inside one cell)
-	auto find = [&](int32_t s) {
-		while (node[size_t(s)].parent != s)
-			s = node[size_t(s)].parent = node[size_t(node[size_t(s)].parent)].parent;
-		return s;
-	};
 	constexpr size_t kAhead = 16; // (the nodes of a pair a few pairs ahead are fetched meanwhile)
 	for (size_t oi = 0; oi < order.size(); ++oi) {
 		if (oi + kAhead < order.size()) {
-			const Pair &ahead = pairs[size_t(order[oi + kAhead])];
+			const AcrossPair &ahead = pairs[size_t(order[oi + kAhead])];
 			__builtin_prefetch(&node[size_t(ahead.a)]);
 			__builtin_prefetch(&node[size_t(ahead.b)]);
 		}
 		const int32_t pi = order[oi];
-		const int32_t a = find(pairs[size_t(pi)].a), b = find(pairs[size_t(pi)].b);
+		const int32_t a = findNode(node, pairs[size_t(pi)].a),
+		              b = findNode(node, pairs[size_t(pi)].b);
 		if (a == b)
 			continue;
-		Node &na = node[size_t(a)], &nb = node[size_t(b)];
+		AcrossNode &na = node[size_t(a)], &nb = node[size_t(b)];
 		Vec3 m = na.mean * na.area + nb.mean * nb.area;
 		if (!(m.Norm() > 0))
 			continue;
@@ -430,11 +477,11 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 		const double da = m.dot(na.mean), db = m.dot(nb.mean);
 		if (da < na.cosRoom || db < nb.cosRoom)
 			continue; // (cheap test first; the exact one below)
-		const double r = std::max(angle(da) + na.radius, angle(db) + nb.radius);
+		const double r = std::max(angleOfCos(da) + na.radius, angleOfCos(db) + nb.radius);
 		if (r > limit)
 			continue;
 		// the root (lower id) keeps the cell of the larger original superface
-		Node &root = a < b ? na : nb, &other = a < b ? nb : na;
+		AcrossNode &root = a < b ? na : nb, &other = a < b ? nb : na;
 		other.parent = a < b ? a : b;
 		if (other.seedArea > root.seedArea)
 			root.cell = other.cell, root.seedArea = other.seedArea;
@@ -444,17 +491,46 @@ void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
 		root.area += other.area;
 		root.members += other.members;
 	}
+}
+
+// No union: the nodes as measured, for sameCoarserPartition.
+void keepNodes(const AcrossNode *node, Partition &p)
+{
+	const size_t n = p.count();
+	p.nodeArea.resize(n), p.nodeRadius.resize(n), p.nodeMean.resize(n);
+	for (size_t s = 0; s < n; ++s)
+		p.nodeArea[s] = node[s].area, p.nodeRadius[s] = node[s].radius,
+		p.nodeMean[s] = node[s].mean;
+}
+
+} // namespace
+
+void mergeAcrossCells(const Topology &t, double boundDeg, Partition &p)
+{
+	p.partLabel.clear(), p.partCell.clear(), p.partOrigin.clear();
+	p.nodeArea.clear(), p.nodeRadius.clear(), p.nodeMean.clear();
+	const size_t n = p.count();
+	if (n < 2)
+		return;
+	const double limit = acrossHalfAngle(boundDeg); // cone half-angle
+	std::unique_ptr<AcrossNode[]> node = measureNodes(t, p, limit);
+	const std::vector<AcrossPair> pairs = acrossPairs(t, p, node.get(), limit);
+	if (pairs.empty()) {
+		keepNodes(node.get(), p);
+		return;
+	}
+	greedyUnion(pairs, limit, node.get());
 	bool any = false;
 	for (size_t s = 0; s < n && !any; ++s)
-		any = node[s].members > 1 && find(int32_t(s)) == int32_t(s);
+		any = node[s].members > 1 && findNode(node.get(), int32_t(s)) == int32_t(s);
 	if (!any) {
-		keepNodes();
+		keepNodes(node.get(), p);
 		return;
 	}
 	p.partLabel = p.label, p.partCell = p.cell, p.partOrigin = p.origin;
 	std::vector<int32_t> root(n); // (a union's root is its lowest superface)
 	for (size_t s = 0; s < n; ++s) {
-		root[s] = find(int32_t(s));
+		root[s] = findNode(node.get(), int32_t(s));
 		if (root[s] == int32_t(s)) {
 			p.cell[s] = node[s].cell;
 			if (node[s].members > 1)

@@ -126,10 +126,17 @@ bool proveByPairs(const PatchCase &c, double slop, PatchProof &out)
 	return true;
 }
 
-bool proveByHeights(const PatchCase &c, double facing, double slop, bool under, PatchProof &out)
+// The patch seen along the old patch's area-weighted normal n: each point's 2D position p2 in
+// the plane orthogonal to it and its height h along it.
+struct HeightFrame {
+	Vec3 n;
+	double p2[PatchCase::kMaxPts][2], h[PatchCase::kMaxPts];
+};
+
+// The frame of the patch (its direction also into out.dir); false if its normal is zero or a
+// triangle, old or new, faces n by less than `facing` (the cosine).
+inline bool heightFrame(const PatchCase &c, double facing, HeightFrame &f, PatchProof &out)
 {
-	constexpr int kT = PatchCase::kMaxTris;
-	// the direction: the old patch's area-weighted normal
 	Vec3 n(0, 0, 0);
 	for (int i = 0; i < c.nOld; ++i) {
 		const Vec3 &a = c.pos[c.oldTri[i][0]], &b = c.pos[c.oldTri[i][1]],
@@ -140,6 +147,7 @@ bool proveByHeights(const PatchCase &c, double facing, double slop, bool under, 
 	if (!(nl > 0))
 		return false;
 	n /= nl;
+	f.n = n;
 	out.dir = n;
 	auto faces = [&](const int8_t *t) {
 		const Vec3 &a = c.pos[t[0]], &b = c.pos[t[1]], &d = c.pos[t[2]];
@@ -154,13 +162,18 @@ bool proveByHeights(const PatchCase &c, double facing, double slop, bool under, 
 		if (!faces(c.newTri[i]))
 			return false;
 	const Vec3 ax = planeAxis(n), ay = n ^ ax;
-	double p2[PatchCase::kMaxPts][2], h[PatchCase::kMaxPts];
 	for (int i = 0; i < c.nPts; ++i) {
-		p2[i][0] = c.pos[i].dot(ax);
-		p2[i][1] = c.pos[i].dot(ay);
-		h[i] = c.pos[i].dot(n);
+		f.p2[i][0] = c.pos[i].dot(ax);
+		f.p2[i][1] = c.pos[i].dot(ay);
+		f.h[i] = c.pos[i].dot(n);
 	}
-	// one simple polygon, covered once by both
+	return true;
+}
+
+// One simple polygon, covered once by both the old and the new triangles.
+inline bool coveredOnce(const PatchCase &c, const HeightFrame &f)
+{
+	const auto &p2 = f.p2;
 	auto windAround = [&](int o, const int8_t(*tri)[3], int nTri) {
 		double w = 0;
 		for (int i = 0; i < nTri; ++i)
@@ -183,63 +196,73 @@ bool proveByHeights(const PatchCase &c, double facing, double slop, bool under, 
 				}
 		return crossings == 1;
 	};
-	if (c.newInner >= 0) {
-		if (!windsOnce(c.newInner, c.newTri, c.nNew))
-			return false;
-	} else if (!c.pocket) {
-		if (!windsOnce(c.inner[0], c.oldTri, c.nOld))
-			return false;
-	} else {
-		const double w = windAround(c.inner[0], c.oldTri, c.nOld);
-		if (!(w > 0 && w < 2 * M_PI - kWinding))
-			return false;
-		if (!(orient(p2[c.inner[0]], p2[c.pocketA], p2[c.pocketB]) > 0))
-			return false; // (a notch, not a pocket: the new outline would not be inside the old)
-	}
+	if (c.newInner >= 0)
+		return windsOnce(c.newInner, c.newTri, c.nNew);
+	if (!c.pocket)
+		return windsOnce(c.inner[0], c.oldTri, c.nOld);
+	const double w = windAround(c.inner[0], c.oldTri, c.nOld);
+	if (!(w > 0 && w < 2 * M_PI - kWinding))
+		return false;
+	// (a notch, not a pocket: the new outline would not be inside the old)
+	return orient(p2[c.inner[0]], p2[c.pocketA], p2[c.pocketB]) > 0;
+}
+
+// The height of a triangulation at point q, in triangle t (closed, with a little slack).
+inline bool heightIn(const HeightFrame &f, const int8_t *t, const double *q, double &hq)
+{
+	double l0, l1, l2;
+	if (!barycentric(f.p2[t[0]], f.p2[t[1]], f.p2[t[2]], q, l0, l1, l2))
+		return false;
+	constexpr double kIn = -1e-9;
+	if (l0 < kIn || l1 < kIn || l2 < kIn)
+		return false;
+	hq = l0 * f.h[t[0]] + l1 * f.h[t[1]] + l2 * f.h[t[2]];
+	return true;
+}
+
+// The gaps at the vertices: the removed vertices over the new triangles, the new vertex over the
+// old triangles (every new triangle has it). False if one is over none.
+inline bool vertexGaps(const PatchCase &c, const HeightFrame &f, PatchProof &out)
+{
 	for (int i = 0; i < c.nNew; ++i)
 		out.gap[i] = 0;
-	// the height of a triangulation at point q, in triangle t (closed, with a little slack)
-	auto heightIn = [&](const int8_t *t, const double *q, double &hq) {
-		double l0, l1, l2;
-		if (!barycentric(p2[t[0]], p2[t[1]], p2[t[2]], q, l0, l1, l2))
-			return false;
-		constexpr double kIn = -1e-9;
-		if (l0 < kIn || l1 < kIn || l2 < kIn)
-			return false;
-		hq = l0 * h[t[0]] + l1 * h[t[1]] + l2 * h[t[2]];
-		return true;
-	};
-	// the removed vertices, over the new triangles
 	for (int k = 0; k < c.nInner; ++k) {
 		const int q = c.inner[k];
 		bool found = false;
 		for (int i = 0; i < c.nNew; ++i) {
 			double hq;
-			if (heightIn(c.newTri[i], p2[q], hq)) {
-				out.gap[i] = std::max(out.gap[i], std::fabs(h[q] - hq));
+			if (heightIn(f, c.newTri[i], f.p2[q], hq)) {
+				out.gap[i] = std::max(out.gap[i], std::fabs(f.h[q] - hq));
 				found = true;
 			}
 		}
 		if (!found && !c.pocket)
 			return false;
 	}
-	// the new vertex, over the old triangles (every new triangle has it)
 	if (c.newInner >= 0) {
 		double g = -1;
 		for (int i = 0; i < c.nOld && g < 0; ++i) {
 			double hq;
-			if (heightIn(c.oldTri[i], p2[c.newInner], hq))
-				g = std::fabs(h[c.newInner] - hq);
+			if (heightIn(f, c.oldTri[i], f.p2[c.newInner], hq))
+				g = std::fabs(f.h[c.newInner] - hq);
 		}
 		if (g < 0)
 			return false;
 		for (int i = 0; i < c.nNew; ++i)
 			out.gap[i] = std::max(out.gap[i], g);
 	}
-	// inner edges: old ones at a removed vertex; new ones shared by two new triangles (and the
-	// new boundary edge of a pocket)
-	int8_t oldEdge[2 * kT][2], newEdge[2 * kT][2], newEdgeTri[2 * kT][2];
-	int nOldEdge = 0, nNewEdge = 0;
+	return true;
+}
+
+// The inner edges: old ones at a removed vertex; new ones shared by two new triangles (and the
+// new boundary edge of a pocket, newEdgeTri both the pocket's triangle).
+struct InnerEdges {
+	static constexpr int kMax = 2 * PatchCase::kMaxTris;
+	int8_t oldEdge[kMax][2], newEdge[kMax][2], newEdgeTri[kMax][2];
+	int nOld = 0, nNew = 0;
+};
+inline void innerEdges(const PatchCase &c, InnerEdges &e)
+{
 	auto isInner = [&](int p) {
 		for (int k = 0; k < c.nInner; ++k)
 			if (c.inner[k] == p)
@@ -252,60 +275,66 @@ bool proveByHeights(const PatchCase &c, double facing, double slop, bool under, 
 			if (!isInner(a) && !isInner(b))
 				continue;
 			bool seen = false;
-			for (int e = 0; e < nOldEdge && !seen; ++e)
-				seen = (oldEdge[e][0] == b && oldEdge[e][1] == a);
+			for (int j = 0; j < e.nOld && !seen; ++j)
+				seen = (e.oldEdge[j][0] == b && e.oldEdge[j][1] == a);
 			if (!seen)
-				oldEdge[nOldEdge][0] = a, oldEdge[nOldEdge][1] = b, ++nOldEdge;
+				e.oldEdge[e.nOld][0] = a, e.oldEdge[e.nOld][1] = b, ++e.nOld;
 		}
 	for (int i = 0; i < c.nNew; ++i)
 		for (int k = 0; k < 3; ++k) {
 			const int8_t a = c.newTri[i][k], b = c.newTri[i][(k + 1) % 3];
 			const bool pocketEdge = c.pocket && ((a == c.pocketA && b == c.pocketB) ||
 			                                     (a == c.pocketB && b == c.pocketA));
-			int e = 0;
-			while (e < nNewEdge && !(newEdge[e][0] == b && newEdge[e][1] == a))
-				++e;
-			if (e < nNewEdge) {
-				newEdgeTri[e][1] = int8_t(i);
+			int j = 0;
+			while (j < e.nNew && !(e.newEdge[j][0] == b && e.newEdge[j][1] == a))
+				++j;
+			if (j < e.nNew) {
+				e.newEdgeTri[j][1] = int8_t(i);
 			} else {
-				newEdge[e][0] = a, newEdge[e][1] = b;
-				newEdgeTri[e][0] = int8_t(i);
-				newEdgeTri[e][1] = pocketEdge ? int8_t(i) : int8_t(-1);
-				++nNewEdge;
+				e.newEdge[j][0] = a, e.newEdge[j][1] = b;
+				e.newEdgeTri[j][0] = int8_t(i);
+				e.newEdgeTri[j][1] = pocketEdge ? int8_t(i) : int8_t(-1);
+				++e.nNew;
 			}
 		}
+}
+
+// The gaps where a new inner edge crosses an old one, on both new triangles of the edge. Returns
+// the pocket's triangle (-1: none).
+inline int edgeCrossingGaps(const PatchCase &c, const HeightFrame &f, const InnerEdges &e,
+                            PatchProof &out)
+{
+	const auto &p2 = f.p2;
+	const auto &h = f.h;
 	int pocketTri = -1;
-	for (int e = 0; e < nNewEdge; ++e) {
-		if (newEdgeTri[e][1] < 0)
+	for (int j = 0; j < e.nNew; ++j) {
+		if (e.newEdgeTri[j][1] < 0)
 			continue; // (an outline edge of the new fan)
-		const bool pocketEdge = c.pocket && newEdgeTri[e][0] == newEdgeTri[e][1];
+		const bool pocketEdge = c.pocket && e.newEdgeTri[j][0] == e.newEdgeTri[j][1];
 		if (pocketEdge)
-			pocketTri = newEdgeTri[e][0];
-		const double *q0 = p2[newEdge[e][0]], *q1 = p2[newEdge[e][1]];
-		for (int o = 0; o < nOldEdge; ++o) {
+			pocketTri = e.newEdgeTri[j][0];
+		const double *q0 = p2[e.newEdge[j][0]], *q1 = p2[e.newEdge[j][1]];
+		for (int o = 0; o < e.nOld; ++o) {
 			double s, r;
-			if (!crossing(p2[oldEdge[o][0]], p2[oldEdge[o][1]], q0, q1, s, r))
+			if (!crossing(p2[e.oldEdge[o][0]], p2[e.oldEdge[o][1]], q0, q1, s, r))
 				continue;
-			const double ho = h[oldEdge[o][0]] + s * (h[oldEdge[o][1]] - h[oldEdge[o][0]]);
-			const double hn = h[newEdge[e][0]] + r * (h[newEdge[e][1]] - h[newEdge[e][0]]);
+			const double ho = h[e.oldEdge[o][0]] + s * (h[e.oldEdge[o][1]] - h[e.oldEdge[o][0]]);
+			const double hn = h[e.newEdge[j][0]] + r * (h[e.newEdge[j][1]] - h[e.newEdge[j][0]]);
 			const double g = std::fabs(ho - hn);
 			for (int k = 0; k < 2; ++k)
-				out.gap[newEdgeTri[e][k]] = std::max(out.gap[newEdgeTri[e][k]], g);
+				out.gap[e.newEdgeTri[j][k]] = std::max(out.gap[e.newEdgeTri[j][k]], g);
 		}
 	}
-	if (c.pocket) {
-		if (pocketTri < 0)
-			return false;
-		out.gap[pocketTri] =
-		    std::max(out.gap[pocketTri],
-		             pointSegmentDistance(c.pos[c.inner[0]], c.pos[c.pocketA], c.pos[c.pocketB]));
-	}
-	for (int i = 0; i < c.nNew; ++i)
-		out.gap[i] += slop;
-	out.byPairs = false;
-	if (!under)
-		return true;
-	// the old triangles under each new one (and under the pocket's, those over the pocket)
+	return pocketTri;
+}
+
+// The old triangles under each new one (and under the pocket's, those over the pocket); true if
+// every old triangle is under one.
+inline bool oldUnderNew(const PatchCase &c, const HeightFrame &f, int pocketTri, double slop,
+                        PatchProof &out)
+{
+	constexpr int kT = PatchCase::kMaxTris;
+	const auto &p2 = f.p2;
 	double oldP[kT][3][2];
 	for (int i = 0; i < c.nOld; ++i)
 		for (int k = 0; k < 3; ++k)
@@ -331,8 +360,34 @@ bool proveByHeights(const PatchCase &c, double facing, double slop, bool under, 
 		covered |= under;
 	}
 	const uint64_t all = c.nOld == 64 ? ~uint64_t(0) : (uint64_t(1) << c.nOld) - 1;
-	out.byPairs = false;
 	return covered == all;
+}
+
+bool proveByHeights(const PatchCase &c, double facing, double slop, bool under, PatchProof &out)
+{
+	HeightFrame f;
+	if (!heightFrame(c, facing, f, out))
+		return false;
+	if (!coveredOnce(c, f) || !vertexGaps(c, f, out))
+		return false;
+	InnerEdges e;
+	innerEdges(c, e);
+	const int pocketTri = edgeCrossingGaps(c, f, e, out);
+	if (c.pocket) {
+		if (pocketTri < 0)
+			return false;
+		out.gap[pocketTri] =
+		    std::max(out.gap[pocketTri],
+		             pointSegmentDistance(c.pos[c.inner[0]], c.pos[c.pocketA], c.pos[c.pocketB]));
+	}
+	for (int i = 0; i < c.nNew; ++i)
+		out.gap[i] += slop;
+	out.byPairs = false;
+	if (!under)
+		return true;
+	const bool all = oldUnderNew(c, f, pocketTri, slop, out);
+	out.byPairs = false;
+	return all;
 }
 
 } // namespace

@@ -213,30 +213,20 @@ bool buildOutside(const P2 *p, size_t n, Outside &o)
 	return true;
 }
 
-} // namespace
-
-SmallRing triangulateSmallRing(TriangulationJob &job)
+// A simple, counterclockwise ring of n points with no straight vertex, all certain.
+bool certainSimpleRing(const P2 *p, size_t n)
 {
-	const size_t n = job.xy.size() / 2;
-	if (job.ringStart.size() != 2 || n < 4 || n > kSmallRingMax || size_t(job.ringStart[1]) != n ||
-	    job.ringStart[0] != 0)
-		return SmallRing::NotHandled;
-	P2 p[kSmallRingMax];
-	for (size_t i = 0; i < n; ++i)
-		p[i] = P2{job.xy[2 * i], job.xy[2 * i + 1]};
 	auto nextOf = [n](size_t i) { return i + 1 == n ? 0 : i + 1; };
 	auto prevOf = [n](size_t i) { return i == 0 ? n - 1 : i - 1; };
-
-	// a simple, counterclockwise ring with no straight vertex, all certain
 	size_t lowest = 0; // (lexicographically smallest: convex, its turn is the ring's orientation)
 	for (size_t i = 0; i < n; ++i) {
 		if (orient(p[prevOf(i)], p[i], p[nextOf(i)]) == 0)
-			return SmallRing::NotHandled;
+			return false;
 		if (p[i].x < p[lowest].x || (p[i].x == p[lowest].x && p[i].y < p[lowest].y))
 			lowest = i;
 	}
 	if (orient(p[prevOf(lowest)], p[lowest], p[nextOf(lowest)]) < 0)
-		return SmallRing::NotHandled;
+		return false;
 	for (size_t i = 0; i < n; ++i) {
 		const P2 &a = p[i], &b = p[nextOf(i)];
 		for (size_t j = i + 2; j < n; ++j) {
@@ -250,28 +240,28 @@ SmallRing triangulateSmallRing(TriangulationJob &job)
 			const int o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a),
 			          o4 = orient(c, d, b);
 			if (o1 == 0 || o2 == 0 || o3 == 0 || o4 == 0 || (o1 != o2 && o3 != o4))
-				return SmallRing::NotHandled; // touching, crossing or not certain
+				return false; // touching, crossing or not certain
 		}
 	}
+	return true;
+}
 
-	int32_t ring[kSmallRingMax];
-	for (size_t i = 0; i < n; ++i)
-		ring[i] = int32_t(i);
+// The ring's triangulation and, per ring edge i -> i+1, the inside triangle on it; the outside
+// of the ring (its hull's pockets) once a query needs it.
+struct SmallTriangulation {
+	const P2 *p;
+	size_t n;
 	int32_t tri[3 * kMaxTris];
 	size_t nt = 0;
-	if (!triangulatePolygon(p, ring, n, tri, nt))
-		return SmallRing::NotHandled;
-	// the inside triangle on each ring edge i -> i+1
 	int32_t across[kSmallRingMax];
-	for (size_t t = 0; t < nt; ++t)
-		for (size_t k = 0; k < 3; ++k) {
-			const int32_t a = tri[3 * t + k], b = tri[3 * t + (k + 1) % 3];
-			if (size_t(b) == nextOf(size_t(a)))
-				across[a] = int32_t(t);
-		}
+	Outside out;
+	bool outsideBuilt = false;
+
+	size_t nextOf(size_t i) const { return i + 1 == n ? 0 : i + 1; }
 	// the answer for a face outside the ring: the inside triangle across its one ring edge
 	// (-1: none, -2: several)
-	auto acrossRingEdges = [&](const int32_t *t) {
+	int32_t acrossRingEdges(const int32_t *t) const
+	{
 		int32_t found = -1;
 		for (size_t k = 0; k < 3; ++k) {
 			const int32_t a = t[k], b = t[(k + 1) % 3];
@@ -279,11 +269,77 @@ SmallRing triangulateSmallRing(TriangulationJob &job)
 				found = found == -1 ? across[b] : -2;
 		}
 		return found;
-	};
+	}
+	bool triangulate();
+	bool locateOutside(const P2 &x, int32_t &answer);
+};
 
+bool SmallTriangulation::triangulate()
+{
+	int32_t ring[kSmallRingMax];
+	for (size_t i = 0; i < n; ++i)
+		ring[i] = int32_t(i);
+	if (!triangulatePolygon(p, ring, n, tri, nt))
+		return false;
+	for (size_t t = 0; t < nt; ++t)
+		for (size_t k = 0; k < 3; ++k) {
+			const int32_t a = tri[3 * t + k], b = tri[3 * t + (k + 1) % 3];
+			if (size_t(b) == nextOf(size_t(a)))
+				across[a] = int32_t(t);
+		}
+	return true;
+}
+
+// The triangle CGAL's path gives a query x in no inside triangle (see acrossRingEdges); false if
+// that is not certain.
+bool SmallTriangulation::locateOutside(const P2 &x, int32_t &answer)
+{
+	if (!outsideBuilt && !buildOutside(p, n, out))
+		return false;
+	outsideBuilt = true;
+	answer = -3;
+	for (size_t t = 0; t < out.nt && answer == -3; ++t)
+		if (certainlyInside(p, &out.tri[3 * t], x))
+			answer = acrossRingEdges(&out.tri[3 * t]);
+	if (answer == -3) { // beyond the hull: CGAL's walk ends at a hull edge that sees it;
+		// all of those must give the same answer
+		for (size_t e = 0; e < out.nh; ++e) {
+			const int32_t a = out.hull[e], b = out.hull[(e + 1) % out.nh];
+			const int o = orient(p[a], p[b], x);
+			if (o == 0)
+				return false;
+			const int32_t here = size_t(b) == nextOf(size_t(a)) ? across[a] : -1;
+			if (o < 0 && answer != -3 && here != answer)
+				return false;
+			if (o < 0)
+				answer = here;
+		}
+		if (answer == -3)
+			return false; // (inside the hull but in no face: on an edge)
+	}
+	return answer != -2;
+}
+
+} // namespace
+
+SmallRing triangulateSmallRing(TriangulationJob &job)
+{
+	const size_t n = job.xy.size() / 2;
+	if (job.ringStart.size() != 2 || n < 4 || n > kSmallRingMax || size_t(job.ringStart[1]) != n ||
+	    job.ringStart[0] != 0)
+		return SmallRing::NotHandled;
+	P2 p[kSmallRingMax];
+	for (size_t i = 0; i < n; ++i)
+		p[i] = P2{job.xy[2 * i], job.xy[2 * i + 1]};
+	if (!certainSimpleRing(p, n))
+		return SmallRing::NotHandled;
+	SmallTriangulation st;
+	st.p = p, st.n = n;
+	if (!st.triangulate())
+		return SmallRing::NotHandled;
+	const int32_t *tri = st.tri;
+	const size_t nt = st.nt;
 	// queries (starting with the previous query's triangle)
-	Outside out;
-	bool outsideBuilt = false;
 	const size_t nq = job.queryXY.size() / 2;
 	job.queryTri.assign(nq, -1);
 	size_t hint = 0;
@@ -299,41 +355,18 @@ SmallRing triangulateSmallRing(TriangulationJob &job)
 			job.queryTri[q] = int32_t(hint);
 			continue;
 		}
-		if (!outsideBuilt && !buildOutside(p, n, out))
-			return SmallRing::NotHandled;
-		outsideBuilt = true;
-		int32_t answer = -3;
-		for (size_t t = 0; t < out.nt && answer == -3; ++t)
-			if (certainlyInside(p, &out.tri[3 * t], x))
-				answer = acrossRingEdges(&out.tri[3 * t]);
-		if (answer == -3) { // beyond the hull: CGAL's walk ends at a hull edge that sees it;
-			// all of those must give the same answer
-			for (size_t e = 0; e < out.nh; ++e) {
-				const int32_t a = out.hull[e], b = out.hull[(e + 1) % out.nh];
-				const int o = orient(p[a], p[b], x);
-				if (o == 0)
-					return SmallRing::NotHandled;
-				const int32_t here = size_t(b) == nextOf(size_t(a)) ? across[a] : -1;
-				if (o < 0 && answer != -3 && here != answer)
-					return SmallRing::NotHandled;
-				if (o < 0)
-					answer = here;
-			}
-			if (answer == -3)
-				return SmallRing::NotHandled; // (inside the hull but in no face: on an edge)
-		}
-		if (answer == -2)
+		int32_t answer;
+		if (!st.locateOutside(x, answer))
 			return SmallRing::NotHandled;
 		job.queryTri[q] = answer;
 	}
-
 	job.tris.assign(tri, tri + 3 * nt);
 	job.constrained.resize(nt);
 	for (size_t t = 0; t < nt; ++t) {
 		uint8_t bits = 0;
 		for (size_t k = 0; k < 3; ++k) {
 			const size_t a = size_t(tri[3 * t + k]), b = size_t(tri[3 * t + (k + 1) % 3]);
-			if (b == nextOf(a) || a == nextOf(b))
+			if (b == st.nextOf(a) || a == st.nextOf(b))
 				bits |= uint8_t(1u << k);
 		}
 		job.constrained[t] = bits;

@@ -68,24 +68,24 @@ struct Mesh2 {
 		}
 		return worst;
 	}
+
+	int32_t corner(int32_t h, int i) const { return job.tris[size_t(h - h % 3 + (h % 3 + i) % 3)]; }
+	void setTwin(int32_t h, int32_t g)
+	{
+		f.twin[size_t(h)] = g;
+		if (g >= 0)
+			f.twin[size_t(g)] = h;
+	}
+	void listQueries(size_t ntri, size_t nq);
+	void linkTwins(size_t ntri);
+	bool tryFlip(int32_t h, double threshold, size_t &budget);
+	void applyFlip(int32_t h, int32_t g, const int32_t abcd[4], const double cd[4], int32_t merged,
+	               double e1, double e2);
 };
 
-} // namespace
-
-bool flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, Scratch &w,
-                       double from, bool centroids)
+// Per triangle, its queries (linked lists, in query order).
+void Mesh2::listQueries(size_t ntri, size_t nq)
 {
-	TriangulationJob &job = w.job;
-	const size_t ntri = job.tris.size() / 3;
-	const size_t faces = size_t(in.faces.end(s) - in.faces.begin(s));
-	const size_t nq = job.queryTri.size();
-	if (ntri < 2 || nq <= faces || w.flip.queryVertex.size() != nq - faces)
-		return false;
-	FlipScratch &f = w.flip;
-	Mesh2 m{job,  f,           in,
-	        in.t, w.ringVerts, faces,
-	        N,    in.limits,   centroids ? &in.faces.face[size_t(in.faces.begin(s))] : nullptr};
-	// per triangle, its queries (linked lists)
 	f.head.assign(ntri, -1);
 	f.next.assign(nq, -1);
 	for (size_t q = nq; q-- > 0;) {
@@ -93,17 +93,11 @@ bool flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, S
 		if (k >= 0)
 			f.next[q] = f.head[size_t(k)], f.head[size_t(k)] = int32_t(q);
 	}
-	f.err.resize(ntri);
-	const double threshold = from * in.limits.maxDistance;
-	bool any = false;
-	for (size_t k = 0; k < ntri; ++k) {
-		const int32_t *v = &job.tris[3 * k];
-		f.err[k] = m.error(v[0], v[1], v[2], f.head[k]);
-		any = any || f.err[k] > threshold;
-	}
-	if (!any)
-		return false;
-	// opposite half-edges (directed edges sorted by key)
+}
+
+// Opposite half-edges (directed edges sorted by key); a ring edge has none (it is never flipped).
+void Mesh2::linkTwins(size_t ntri)
+{
 	f.edges.clear();
 	for (size_t h = 0; h < 3 * ntri; ++h) {
 		const int32_t a = job.tris[h], b = job.tris[h - h % 3 + (h % 3 + 1) % 3];
@@ -120,6 +114,118 @@ bool flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, S
 				f.twin[size_t(h)] = g, f.twin[size_t(g)] = h;
 			++i;
 		}
+}
+
+// Flips the edge of half-edge h if both its triangles form a strictly convex quadrilateral and
+// the flip brings the farther of them closer (each try costs one of `budget`). True if flipped.
+bool Mesh2::tryFlip(int32_t h, double threshold, size_t &budget)
+{
+	const int32_t g = f.twin[size_t(h)];
+	if (g < 0)
+		return false;
+	const int32_t k1 = h / 3, k2 = g / 3;
+	const double before = std::max(f.err[size_t(k1)], f.err[size_t(k2)]);
+	if (!(before > threshold))
+		return false;
+	// triangle k1 = (a, b, c) from h = a -> b, triangle k2 = (b, a, d) from g = b -> a; the
+	// quadrilateral a, d, b, c (counterclockwise) gets the diagonal c - d
+	const int32_t a = corner(h, 0), b = corner(h, 1), c = corner(h, 2), d = corner(g, 2);
+	const double area =
+	    std::fabs(orient(xy(a), xy(b), xy(c))) + std::fabs(orient(xy(b), xy(a), xy(d)));
+	const double minArea = 1e-9 * area;
+	if (!(orient(xy(a), xy(d), xy(c)) > minArea) || !(orient(xy(d), xy(b), xy(c)) > minArea))
+		return false; // not strictly convex
+	--budget;
+	// both lists, split by the new diagonal: orient(c, d, p) < 0 in (a, d, c)
+	const double cd[4] = {xy(c)[0], xy(c)[1], xy(d)[0], xy(d)[1]};
+	int32_t merged = -1;
+	for (const int32_t k : {k1, k2})
+		for (int32_t q = f.head[size_t(k)], nx; q >= 0; q = nx) {
+			nx = f.next[size_t(q)];
+			f.next[size_t(q)] = merged, merged = q;
+		}
+	const double e1 = error(a, d, c, merged, cd, -1.0), e2 = error(d, b, c, merged, cd, 1.0);
+	if (!(e1 >= 0 && e2 >= 0) || !(std::max(e1, e2) < before * (1 - 1e-9))) {
+		// keep: rebuild the two lists as they were
+		f.head[size_t(k1)] = f.head[size_t(k2)] = -1;
+		for (int32_t q = merged, nx; q >= 0; q = nx) {
+			nx = f.next[size_t(q)];
+			const int32_t k = job.queryTri[size_t(q)];
+			f.next[size_t(q)] = f.head[size_t(k)], f.head[size_t(k)] = q;
+		}
+		return false;
+	}
+	const int32_t abcd[4] = {a, b, c, d};
+	applyFlip(h, g, abcd, cd, merged, e1, e2);
+	return true;
+}
+
+// The flip of tryFlip: k1 = (a, d, c), k2 = (d, b, c), their twins, ring bits, queries (the
+// merged list split by the diagonal cd) and errors e1, e2; their edges go back on the queue.
+void Mesh2::applyFlip(int32_t h, int32_t g, const int32_t abcd[4], const double cd[4],
+                      int32_t merged, double e1, double e2)
+{
+	const int32_t a = abcd[0], b = abcd[1], c = abcd[2], d = abcd[3];
+	const int32_t k1 = h / 3, k2 = g / 3;
+	const int32_t tAD = f.twin[size_t(3 * k2 + (g % 3 + 1) % 3)],
+	              tDB = f.twin[size_t(3 * k2 + (g % 3 + 2) % 3)],
+	              tBC = f.twin[size_t(3 * k1 + (h % 3 + 1) % 3)],
+	              tCA = f.twin[size_t(3 * k1 + (h % 3 + 2) % 3)];
+	const uint8_t c1 = job.constrained[size_t(k1)], c2 = job.constrained[size_t(k2)];
+	auto bit = [](uint8_t bits, int32_t e) { return uint8_t((bits >> (e % 3)) & 1u); };
+	const uint8_t bAD = bit(c2, g % 3 + 1), bDB = bit(c2, g % 3 + 2), bBC = bit(c1, h % 3 + 1),
+	              bCA = bit(c1, h % 3 + 2);
+	int32_t *t1 = &job.tris[3 * size_t(k1)], *t2 = &job.tris[3 * size_t(k2)];
+	t1[0] = a, t1[1] = d, t1[2] = c;
+	t2[0] = d, t2[1] = b, t2[2] = c;
+	job.constrained[size_t(k1)] = uint8_t(bAD | 0u << 1 | bCA << 2);
+	job.constrained[size_t(k2)] = uint8_t(bDB | bBC << 1 | 0u << 2);
+	setTwin(3 * k1 + 0, tAD);
+	setTwin(3 * k1 + 1, 3 * k2 + 2);
+	setTwin(3 * k1 + 2, tCA);
+	setTwin(3 * k2 + 0, tDB);
+	setTwin(3 * k2 + 1, tBC);
+	f.head[size_t(k1)] = f.head[size_t(k2)] = -1;
+	for (int32_t q = merged, nx; q >= 0; q = nx) {
+		nx = f.next[size_t(q)];
+		const int32_t k = orient(cd, cd + 2, &job.queryXY[2 * size_t(q)]) < 0 ? k1 : k2;
+		job.queryTri[size_t(q)] = k;
+		f.next[size_t(q)] = f.head[size_t(k)], f.head[size_t(k)] = q;
+	}
+	f.err[size_t(k1)] = e1, f.err[size_t(k2)] = e2;
+	for (const int32_t k : {k1, k2})
+		for (int e = 0; e < 3; ++e)
+			if (f.twin[3 * size_t(k) + size_t(e)] >= 0)
+				f.queue.push_back(3 * k + e);
+}
+
+} // namespace
+
+bool flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, Scratch &w,
+                       double from, bool centroids)
+{
+	TriangulationJob &job = w.job;
+	const size_t ntri = job.tris.size() / 3;
+	const size_t faces = size_t(in.faces.end(s) - in.faces.begin(s));
+	const size_t nq = job.queryTri.size();
+	if (ntri < 2 || nq <= faces || w.flip.queryVertex.size() != nq - faces)
+		return false;
+	FlipScratch &f = w.flip;
+	Mesh2 m{job,  f,           in,
+	        in.t, w.ringVerts, faces,
+	        N,    in.limits,   centroids ? &in.faces.face[size_t(in.faces.begin(s))] : nullptr};
+	m.listQueries(ntri, nq);
+	f.err.resize(ntri);
+	const double threshold = from * in.limits.maxDistance;
+	bool any = false;
+	for (size_t k = 0; k < ntri; ++k) {
+		const int32_t *v = &job.tris[3 * k];
+		f.err[k] = m.error(v[0], v[1], v[2], f.head[k]);
+		any = any || f.err[k] > threshold;
+	}
+	if (!any)
+		return false;
+	m.linkTwins(ntri);
 	// the edges of the triangles too far, then of those a flip changes
 	f.queue.clear();
 	for (size_t k = 0; k < ntri; ++k)
@@ -127,86 +233,12 @@ bool flipTowardSurface(const TriangulationInput &in, int32_t s, const Vec3 &N, S
 			for (int e = 0; e < 3; ++e)
 				if (f.twin[3 * k + size_t(e)] >= 0)
 					f.queue.push_back(int32_t(3 * k + size_t(e)));
-	auto corner = [&](int32_t h, int i) { return job.tris[size_t(h - h % 3 + (h % 3 + i) % 3)]; };
-	auto setTwin = [&](int32_t h, int32_t g) {
-		f.twin[size_t(h)] = g;
-		if (g >= 0)
-			f.twin[size_t(g)] = h;
-	};
 	size_t budget = kFlipBudget * ntri;
 	bool flipped = false;
 	while (!f.queue.empty() && budget > 0) {
 		const int32_t h = f.queue.back();
 		f.queue.pop_back();
-		const int32_t g = f.twin[size_t(h)];
-		if (g < 0)
-			continue;
-		const int32_t k1 = h / 3, k2 = g / 3;
-		const double before = std::max(f.err[size_t(k1)], f.err[size_t(k2)]);
-		if (!(before > threshold))
-			continue;
-		// triangle k1 = (a, b, c) from h = a -> b, triangle k2 = (b, a, d) from g = b -> a; the
-		// quadrilateral a, d, b, c (counterclockwise) gets the diagonal c - d
-		const int32_t a = corner(h, 0), b = corner(h, 1), c = corner(h, 2), d = corner(g, 2);
-		const double area = std::fabs(orient(m.xy(a), m.xy(b), m.xy(c))) +
-		                    std::fabs(orient(m.xy(b), m.xy(a), m.xy(d)));
-		const double minArea = 1e-9 * area;
-		if (!(orient(m.xy(a), m.xy(d), m.xy(c)) > minArea) ||
-		    !(orient(m.xy(d), m.xy(b), m.xy(c)) > minArea))
-			continue; // not strictly convex
-		--budget;
-		// both lists, split by the new diagonal: orient(c, d, p) < 0 in (a, d, c)
-		double cd[4] = {m.xy(c)[0], m.xy(c)[1], m.xy(d)[0], m.xy(d)[1]};
-		int32_t merged = -1;
-		for (const int32_t k : {k1, k2})
-			for (int32_t q = f.head[size_t(k)], nx; q >= 0; q = nx) {
-				nx = f.next[size_t(q)];
-				f.next[size_t(q)] = merged, merged = q;
-			}
-		const double e1 = m.error(a, d, c, merged, cd, -1.0),
-		             e2 = m.error(d, b, c, merged, cd, 1.0);
-		if (!(e1 >= 0 && e2 >= 0) || !(std::max(e1, e2) < before * (1 - 1e-9))) {
-			// keep: rebuild the two lists as they were
-			f.head[size_t(k1)] = f.head[size_t(k2)] = -1;
-			for (int32_t q = merged, nx; q >= 0; q = nx) {
-				nx = f.next[size_t(q)];
-				const int32_t k = job.queryTri[size_t(q)];
-				f.next[size_t(q)] = f.head[size_t(k)], f.head[size_t(k)] = q;
-			}
-			continue;
-		}
-		// flip: k1 = (a, d, c), k2 = (d, b, c)
-		flipped = true;
-		const int32_t tAD = f.twin[size_t(3 * k2 + (g % 3 + 1) % 3)],
-		              tDB = f.twin[size_t(3 * k2 + (g % 3 + 2) % 3)],
-		              tBC = f.twin[size_t(3 * k1 + (h % 3 + 1) % 3)],
-		              tCA = f.twin[size_t(3 * k1 + (h % 3 + 2) % 3)];
-		const uint8_t c1 = job.constrained[size_t(k1)], c2 = job.constrained[size_t(k2)];
-		auto bit = [](uint8_t bits, int32_t e) { return uint8_t((bits >> (e % 3)) & 1u); };
-		const uint8_t bAD = bit(c2, g % 3 + 1), bDB = bit(c2, g % 3 + 2), bBC = bit(c1, h % 3 + 1),
-		              bCA = bit(c1, h % 3 + 2);
-		int32_t *t1 = &job.tris[3 * size_t(k1)], *t2 = &job.tris[3 * size_t(k2)];
-		t1[0] = a, t1[1] = d, t1[2] = c;
-		t2[0] = d, t2[1] = b, t2[2] = c;
-		job.constrained[size_t(k1)] = uint8_t(bAD | 0u << 1 | bCA << 2);
-		job.constrained[size_t(k2)] = uint8_t(bDB | bBC << 1 | 0u << 2);
-		setTwin(3 * k1 + 0, tAD);
-		setTwin(3 * k1 + 1, 3 * k2 + 2);
-		setTwin(3 * k1 + 2, tCA);
-		setTwin(3 * k2 + 0, tDB);
-		setTwin(3 * k2 + 1, tBC);
-		f.head[size_t(k1)] = f.head[size_t(k2)] = -1;
-		for (int32_t q = merged, nx; q >= 0; q = nx) {
-			nx = f.next[size_t(q)];
-			const int32_t k = orient(cd, cd + 2, &job.queryXY[2 * size_t(q)]) < 0 ? k1 : k2;
-			job.queryTri[size_t(q)] = k;
-			f.next[size_t(q)] = f.head[size_t(k)], f.head[size_t(k)] = q;
-		}
-		f.err[size_t(k1)] = e1, f.err[size_t(k2)] = e2;
-		for (const int32_t k : {k1, k2})
-			for (int e = 0; e < 3; ++e)
-				if (f.twin[3 * size_t(k) + size_t(e)] >= 0)
-					f.queue.push_back(3 * k + e);
+		flipped = m.tryFlip(h, threshold, budget) || flipped;
 	}
 	return flipped;
 }

@@ -46,17 +46,26 @@ bool finite3(const double *p)
 	return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
 }
 
+// Sets rep[v] = v for every vertex (what a vertex not welded keeps) and calls weld(v, p) for each
+// vertex that may be welded: a finite position p, not skipped (skip[v], if given); in index order.
+template <class Weld>
+void forWeldable(const MeshView &m, const uint8_t *skip, std::vector<int32_t> &rep, Weld weld)
+{
+	for (size_t v = 0; v < m.vertexCount; ++v) {
+		const double *p = m.positions + 3 * v;
+		rep[v] = int32_t(v);
+		if (finite3(p) && !(skip && skip[v]))
+			weld(v, p);
+	}
+}
+
 // Exact: each position's first vertex is the key's slot. Vertices with skip[v] (if given) stay.
 size_t weldExact(const MeshView &m, const uint8_t *skip, std::vector<int32_t> &rep)
 {
 	const size_t mask = tableSize(m.vertexCount) - 1;
 	std::vector<int32_t> slot(mask + 1, -1);
 	size_t merged = 0;
-	for (size_t v = 0; v < m.vertexCount; ++v) {
-		const double *p = m.positions + 3 * v;
-		rep[v] = int32_t(v);
-		if (!finite3(p) || (skip && skip[v]))
-			continue;
+	forWeldable(m, skip, rep, [&](size_t v, const double *p) {
 		size_t h = mix(bitsOf(p[0]) ^ mix(bitsOf(p[1]) ^ mix(bitsOf(p[2])))) & mask;
 		for (;; h = (h + 1) & mask) {
 			const int32_t w = slot[h];
@@ -71,7 +80,7 @@ size_t weldExact(const MeshView &m, const uint8_t *skip, std::vector<int32_t> &r
 				break;
 			}
 		}
-	}
+	});
 	return merged;
 }
 
@@ -104,11 +113,7 @@ size_t weldWithin(const MeshView &m, double d, const uint8_t *skip, std::vector<
 	};
 	const double d2 = d * d;
 	size_t merged = 0;
-	for (size_t v = 0; v < m.vertexCount; ++v) {
-		const double *p = m.positions + 3 * v;
-		rep[v] = int32_t(v);
-		if (!finite3(p) || (skip && skip[v]))
-			continue;
+	forWeldable(m, skip, rep, [&](size_t v, const double *p) {
 		const int64_t c[3] = {cellOf(p[0]), cellOf(p[1]), cellOf(p[2])};
 		int32_t best = -1;
 		for (int64_t dz = -1; dz <= 1; ++dz)
@@ -128,14 +133,14 @@ size_t weldWithin(const MeshView &m, double d, const uint8_t *skip, std::vector<
 		if (best >= 0) {
 			rep[v] = best;
 			++merged;
-			continue;
+			return;
 		}
 		Slot *s = find(c, true);
 		if (s->head < 0)
 			std::memcpy(s->c, c, sizeof c);
 		next[v] = s->head;
 		s->head = int32_t(v);
-	}
+	});
 	return merged;
 }
 
