@@ -2,20 +2,17 @@
 // The algorithm itself lives in vcg_core/ (no Qt, no MeshLab there).
 
 #include "filter_gausslod.h"
+#include "level_layers.h"
 
 #include <gausslod/gausslod.h>
 #include <gausslod/vcg_adapter.h>
 
 #include <QApplication>
-#include <QDir>
-#include <QFileInfo>
-#include <QLocale>
 #include <QStringList>
 #include <QWidget>
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
 #include <memory>
 
 namespace {
@@ -44,27 +41,6 @@ gausslod::MeshAttributes layerAttributes(const MeshModel &m)
 	return a;
 }
 
-/// What the levels carry, as words the runner maps to meshlabserver's save options (vc, vq, vt,
-/// wt, fc): "vertex colour, vertex quality, vertex texture coordinates, wedge texture
-/// coordinates, face colour".
-QString carriedText(const gausslod::MeshAttributes &a, bool superfaceColours)
-{
-	QStringList l;
-	if (a.vertColor)
-		l << "vertex colour";
-	if (a.vertQuality)
-		l << "vertex quality";
-	if (a.vertTexCoord)
-		l << "vertex texture coordinates";
-	if (a.wedgeTexCoord)
-		l << "wedge texture coordinates";
-	if (a.faceColor)
-		l << "face colour";
-	else if (superfaceColours)
-		l << "face colour (by superface)";
-	return l.isEmpty() ? QString("geometry only") : l.join(", ");
-}
-
 /// MeshLab's main window when the filter runs in the GUI (none in meshlabserver).
 QWidget *mainWindow()
 {
@@ -75,25 +51,6 @@ QWidget *mainWindow()
 			return w;
 	return nullptr;
 }
-
-/// In the GUI, a level's texture names are made absolute (next to the input's file) so that
-/// MeshLab finds the images whatever its current folder; in meshlabserver they stay as the input
-/// has them (relative to the input's folder, as the runner expects).
-void levelTextures(const MeshModel &input, CMeshO &level, bool gui)
-{
-	level.textures = input.cm.textures;
-	level.normalmaps = input.cm.normalmaps;
-	if (!gui || input.fullName().isEmpty())
-		return;
-	const QDir dir = QFileInfo(input.fullName()).absoluteDir();
-	for (std::string &t : level.textures) {
-		const QString name = QString::fromStdString(t);
-		if (QFileInfo(name).isRelative() && QFileInfo(dir.filePath(name)).exists())
-			t = QDir::cleanPath(dir.absoluteFilePath(name)).toStdString();
-	}
-}
-
-QString thousands(size_t n) { return QLocale(QLocale::English).toString(qulonglong(n)); }
 
 /// A RichAbsPerc value as a fraction of `diag`, the diagonal of the mesh the filter runs on. Its
 /// percentage, (value-min)/(max-min), is what the dialog shows and what a saved script carries.
@@ -167,103 +124,6 @@ bool readRequest(const RichParameterList &par, double diag, FilterRequest &req, 
 	req.fauxEdges = par.getBool("fauxEdges");
 	req.selectedOnly = par.getBool("selectedOnly");
 	return true;
-}
-
-/// Layer label without a file extension ("cow.off" -> "cow"); other labels are kept as they are.
-QString baseLabel(const MeshModel &m)
-{
-	const QString label = m.label();
-	const QString suffix = QFileInfo(label).suffix();
-	const bool looksLikeExtension =
-	    !suffix.isEmpty() && suffix.size() <= 4 &&
-	    std::all_of(suffix.begin(), suffix.end(), [](QChar c) { return c.isLetterOrNumber(); }) &&
-	    std::any_of(suffix.begin(), suffix.end(), [](QChar c) { return c.isLetter(); });
-	return looksLikeExtension ? label.left(label.size() - suffix.size() - 1) : label;
-}
-
-/// "cow LOD2 (5,706 f, <=14.1 deg)"
-QString levelLabel(const QString &base, const gausslod::LevelStats &s, double diag)
-{
-	// (a level continued by collapses, DESIGN 51, does not keep its cells' bound: not shown)
-	QString label = QString("%1 LOD%2 (%3 f").arg(base).arg(s.level).arg(thousands(s.faces));
-	if (!s.reduced)
-		label += QString(", <=%1 deg").arg(QString::number(s.boundDeg, 'g', 3));
-	// (the level's distance to the input, % of the diagonal: certified if it was, DESIGN 52,
-	// else the construction's bound; both are proven)
-	const double distance = s.hausdorff >= 0 ? s.hausdorff : s.distanceBound;
-	if (distance >= 0 && diag > 0)
-		label += QString(", <=%1 %").arg(QString::number(100.0 * distance / diag, 'g', 2));
-	return label + ")";
-}
-
-QString levelLogLine(const gausslod::LevelStats &s, double diag)
-{
-	QString line =
-	    QString("LOD%1 (%2x%2 cells per cube face, bound %3 deg): %4 faces, %5 vertices, "
-	            "%6 superfaces, %7 fallbacks, %8 retriangulated; normal deviation "
-	            "max %9 deg, mean %10 deg; %11 s")
-	        .arg(s.level)
-	        .arg(int(std::lround(std::pow(3.0, s.level))))
-	        .arg(QString::number(s.boundDeg, 'g', 3))
-	        .arg(thousands(s.faces))
-	        .arg(thousands(s.vertices))
-	        .arg(thousands(s.superfaces))
-	        .arg(thousands(s.fallbacks))
-	        .arg(thousands(s.retriangulated))
-	        .arg(QString::number(s.maxNormalDevDeg, 'f', 2))
-	        .arg(QString::number(s.meanNormalDevDeg, 'f', 2))
-	        .arg(QString::number(s.seconds, 'f', 3));
-	if (s.unmeasuredFaces > 0)
-		line += QString(" (%1 input faces not measured)").arg(thousands(s.unmeasuredFaces));
-	if (s.maxTexError >= 0)
-		line += QString("; texture coordinates moved at most %1 (UV units)")
-		            .arg(QString::number(s.maxTexError, 'g', 3));
-	if (s.distanceBound >= 0 && diag > 0)
-		line += QString("; distance to the input at most %1 % of the diagonal (%2, a proven bound)")
-		            .arg(QString::number(100.0 * s.distanceBound / diag, 'f', 4))
-		            .arg(QString::number(s.distanceBound, 'g', 4));
-	if (s.hausdorff >= 0 && diag > 0)
-		line += QString("; Hausdorff distance to the input certified at most %1 % of the diagonal "
-		                "(%2; at least %3 %, measured at a point%4; %5 s)")
-		            .arg(QString::number(100.0 * s.hausdorff / diag, 'f', 4))
-		            .arg(QString::number(s.hausdorff, 'g', 4))
-		            .arg(QString::number(100.0 * s.hausdorffLower / diag, 'f', 4))
-		            .arg(s.hausdorffConverged ? "" : "; the search stopped at its work limit")
-		            .arg(QString::number(s.secondsHausdorff, 'f', 3));
-	if (s.placedVertices > 0 && diag > 0)
-		line += QString("; %1 vertices placed on the surface (moved at most %2 % of the diagonal)")
-		            .arg(thousands(s.placedVertices))
-		            .arg(QString::number(100.0 * s.maxPlacement / diag, 'f', 4));
-	if (s.collapses > 0 && s.reduced)
-		line += QString("; continued from LOD%1 by %2 edge collapses with quadric placement "
-		                "(normal deviation measured against the input faces)")
-		            .arg(s.level + 1)
-		            .arg(thousands(s.collapses));
-	else if (s.collapses > 0)
-		line +=
-		    QString("; made from LOD%1 by %2 edge collapses (the superface level's face count "
-		            "within its distance bound; max normal deviation: a bound, mean: an estimate)")
-		        .arg(s.level + 1)
-		        .arg(thousands(s.collapses));
-	if (s.reusedFiner)
-		line += QString("; same mesh as LOD%1 (merging gave more faces, or under 1 % fewer at a "
-		                "larger distance)")
-		            .arg(s.level + 1);
-	if (s.targetFaces > 0 || s.targetDistance >= 0)
-		line += QString("; target %1 %2, distance tolerance %3 % of the diagonal (%4 build%5)")
-		            .arg(s.targetDistance >= 0
-		                     ? QString("%1 % of the diagonal")
-		                           .arg(QString::number(100.0 * s.targetDistance, 'g', 6))
-		                     : QString("%1 faces").arg(thousands(s.targetFaces)))
-		            .arg(s.targetReached ? "reached"
-		                 : s.targetDistance >= 0
-		                     ? "NOT reached (measured above it)"
-		                     : "NOT reached (" + thousands(s.faces) + " faces: " +
-		                           QString::fromStdString(gausslod::budgetNote(s)) + ")")
-		            .arg(QString::number(100.0 * s.tolerance, 'g', 4))
-		            .arg(s.trials)
-		            .arg(s.trials == 1 ? "" : "s");
-	return line;
 }
 
 /// The dialog's parameter for `s`, with the engine's default (distances: that fraction of the
@@ -473,13 +333,7 @@ bool FilterGaussLodPlugin::buildGaussSphereLods(MeshDocument &md, const RichPara
 	gausslod::addAttributes(input->cm, attrs, req.params, req.selectedOnly, flat);
 	const gausslod::MeshView view = flat.view();
 	const double diag = gausslod::bboxDiagonal(view);
-	// real colours stay unless asked; superface colours need per-face colour on the layer
-	const bool hasColour =
-	    attrs.vertColor || attrs.faceColor || attrs.wedgeTexCoord || attrs.vertTexCoord;
-	const bool superfaceColours = req.colourSuperfaces && (!hasColour || req.overwriteColours);
-	gausslod::MeshAttributes carried = attrs;
-	if (superfaceColours)
-		carried.faceColor = false; // (its colours are replaced)
+	const Carried carried(attrs, req.colourSuperfaces, req.overwriteColours);
 
 	const gausslod::Progress progress = [cb](double fraction, const char *stage) {
 		if (cb == nullptr)
@@ -498,98 +352,11 @@ bool FilterGaussLodPlugin::buildGaussSphereLods(MeshDocument &md, const RichPara
 	}
 
 	// All checks passed: from here on only new layers are made; the input stays as it is.
-	const QString base = baseLabel(*input);
-	QList<MeshModel *> added;
-	MeshModel *coarsest = nullptr;
-	int coarsestLevel = 0;
-	try {
-		for (const gausslod::LevelMesh &level : result.levels) {
-			MeshModel *lm = md.addNewMesh("", levelLabel(base, level.stats, diag), true);
-			added << lm;
-			int mask = superfaceColours || carried.faceColor ? MeshModel::MM_FACECOLOR : 0;
-			mask |= carried.vertColor ? MeshModel::MM_VERTCOLOR : 0;
-			mask |= carried.vertQuality ? MeshModel::MM_VERTQUALITY : 0;
-			mask |= carried.vertTexCoord ? MeshModel::MM_VERTTEXCOORD : 0;
-			mask |= carried.wedgeTexCoord ? MeshModel::MM_WEDGTEXCOORD : 0;
-			if (mask)
-				lm->updateDataMask(mask);
-			gausslod::toVcgMeshWithAttributes(level, flat, input->cm, carried, lm->cm,
-			                                  superfaceColours, req.fauxEdges);
-			levelTextures(*input, lm->cm, gui != nullptr);
-			lm->UpdateBoxAndNormals(); // (per-vertex normals of the new faces, smooth)
-			if (coarsest == nullptr || level.stats.level < coarsestLevel) {
-				coarsest = lm;
-				coarsestLevel = level.stats.level;
-			}
-		}
-	} catch (const std::exception &e) {
-		for (MeshModel *lm : added)
-			md.delMesh(lm);
-		md.setCurrent(input);
-		errorMessage = QString("Could not create the level layers: %1").arg(e.what());
+	if (!addLevelLayers(md, *input, result, flat, carried, req.fauxEdges, gui, diag, errorMessage))
 		return false;
-	}
-	md.setCurrent(coarsest);
-	if (gui != nullptr && !input->cm.textures.empty())
-		for (MeshModel *lm : added) // (MeshLab loads the images of the current layer only)
-			QMetaObject::invokeMethod(gui, "updateTexture", Qt::QueuedConnection,
-			                          Q_ARG(int, lm->id()));
-
-	const gausslod::InputStats &in = result.input;
-	if (in.weldedVertices || in.facesSkipped() || in.facesDegenerate || in.verticesLocked)
-		Log(QString("Input repairs (the input layer is unchanged): %1 vertices welded (%2 faces "
-		            "re-indexed); %3 faces skipped (%4 with a repeated vertex, %5 repeating an "
-		            "earlier face); %6 degenerate faces kept as they are; %7 vertices locked "
-		            "(non-manifold or inconsistently oriented edges, non-manifold vertices%8)")
-		        .arg(thousands(in.weldedVertices))
-		        .arg(thousands(in.facesReindexed))
-		        .arg(thousands(in.facesSkipped()))
-		        .arg(thousands(in.facesRepeatedVertex))
-		        .arg(thousands(in.facesDuplicate))
-		        .arg(thousands(in.facesDegenerate))
-		        .arg(thousands(in.verticesLocked))
-		        .arg(req.selectedOnly ? ", unselected faces" : "")
-		        .toStdString());
-	if (in.coplanarRegions)
-		Log(QString("Coplanar regions: %1 regions of faces in one plane re-triangulated before the "
-		            "levels (%2 faces -> %3; the same surface, within %4)")
-		        .arg(thousands(in.coplanarRegions))
-		        .arg(thousands(input->cm.fn))
-		        .arg(thousands(in.facesAfterCoplanar))
-		        .arg(in.coplanarDistance, 0, 'g', 3)
-		        .toStdString());
-	if (req.selectedOnly)
-		Log(QString("Only selected faces: %1 unselected faces kept as they are in every level")
-		        .arg(thousands(in.facesKept))
-		        .toStdString());
-	QStringList textures;
-	for (const std::string &t : input->cm.textures)
-		textures << QString::fromStdString(t);
-	Log(QString("Carried to the levels: %1%2%3")
-	        .arg(carriedText(carried, superfaceColours))
-	        .arg(textures.isEmpty() ? QString()
-	                                : QString("; textures: %1").arg(textures.join(" | ")))
-	        .arg(attrs.vertColor || attrs.faceColor || attrs.wedgeTexCoord || attrs.vertTexCoord
-	                 ? superfaceColours
-	                       ? "; real colours replaced by superface colours (asked)"
-	                       : "; superface colouring off (the layer has its own colours)"
-	                 : "")
-	        .toStdString());
-	if (!req.params.levelFaces.empty() || !req.params.levelDistances.empty())
-		Log(QString("Levels by %1: %2 levels, one per target")
-		        .arg(QString::fromStdString(gausslod::levelsByText(req.params)))
-		        .arg(req.params.maxLevel)
-		        .toStdString());
-	for (const gausslod::LevelMesh &level : result.levels)
-		Log(levelLogLine(level.stats, diag).toStdString());
-	Log(QString(
-	        "Gauss sphere LOD of '%1' (%2 faces, %3 vertices): %4 layer(s) added, %5 s in total")
-	        .arg(input->label())
-	        .arg(thousands(size_t(input->cm.fn)))
-	        .arg(thousands(size_t(input->cm.vn)))
-	        .arg(result.levels.size())
-	        .arg(QString::number(result.totalSeconds, 'f', 3))
-	        .toStdString());
+	for (const QString &line :
+	     resultLog(*input, req.params, req.selectedOnly, result, carried, diag))
+		Log(line.toStdString());
 	return true;
 }
 

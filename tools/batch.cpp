@@ -186,41 +186,28 @@ int batchUsage(const std::string &why)
 	return kUsage;
 }
 
-} // namespace
-
-int batchMain(const std::vector<std::string> &argsIn)
+// Takes --part K/N out of `in` (the rest goes to `args`); "" or why it is wrong.
+std::string takePart(const std::vector<std::string> &in, std::vector<std::string> &args,
+                     size_t &part, size_t &parts)
 {
-	std::vector<std::string> args;
-	size_t part = 0, parts = 1;
-	for (size_t i = 0; i < argsIn.size(); ++i) {
-		if (argsIn[i] != "--part") {
-			args.push_back(argsIn[i]);
+	for (size_t i = 0; i < in.size(); ++i) {
+		if (in[i] != "--part") {
+			args.push_back(in[i]);
 			continue;
 		}
 		unsigned long k = 0, n = 0;
 		char extra = 0;
-		if (i + 1 >= argsIn.size() ||
-		    std::sscanf(argsIn[i + 1].c_str(), "%lu/%lu%c", &k, &n, &extra) != 2 || n == 0 ||
-		    k >= n)
-			return batchUsage("--part needs K/N with 0 <= K < N");
+		if (i + 1 >= in.size() ||
+		    std::sscanf(in[i + 1].c_str(), "%lu/%lu%c", &k, &n, &extra) != 2 || n == 0 || k >= n)
+			return "--part needs K/N with 0 <= K < N";
 		part = k, parts = n, ++i;
 	}
-	Options global;
-	std::vector<std::string> positional;
-	std::string error;
-	if (!parseOptions(args, global, positional, error))
-		return batchUsage(error);
-	if (positional.size() != 2)
-		return batchUsage("needs MANIFEST and OUTDIR");
-	const std::string manifest = positional[0], outdir = positional[1];
-	std::ifstream in(manifest);
-	if (!in) {
-		std::fprintf(stderr, "gausslod batch: cannot open the manifest %s\n", manifest.c_str());
-		return kCannotOpen;
-	}
-	const size_t slash = manifest.find_last_of('/');
-	const std::string base = slash == std::string::npos ? "" : manifest.substr(0, slash + 1);
+	return "";
+}
 
+// The manifest's data lines (and the lines with a quoting error).
+std::vector<Line> readManifest(std::istream &in)
+{
 	std::vector<Line> lines;
 	std::string text;
 	for (size_t number = 1; std::getline(in, text); ++number) {
@@ -229,72 +216,118 @@ int batchMain(const std::vector<std::string> &argsIn)
 			continue;
 		lines.push_back(std::move(l));
 	}
-	std::map<std::string, size_t> firstLine; // output stem -> manifest line (the whole manifest)
+	return lines;
+}
+
+// One run over a manifest's part: the options of the command line, where the outputs go, and
+// the counts of its inputs.
+struct BatchRun {
+	Options global;
+	std::string base;   ///< the manifest's folder (relative paths are from it), with its /
+	std::string outdir; ///< OUTDIR
 	size_t ok = 0, cached = 0, failed = 0;
+
+	/// Runs manifest line `l` (output `stem`; `unique` false if an earlier line has it) and prints
+	/// its record: the record written before if it is of the same file and options.
+	void runLine(const Line &l, const std::string &stem, bool unique, size_t firstLine);
+};
+
+void BatchRun::runLine(const Line &l, const std::string &stem, bool unique, size_t firstLine)
+{
+	const std::string path = l.tok.empty() ? "" : l.tok[0];
+	const std::string input = !path.empty() && path[0] == '/' ? path : base + path;
+	Outcome out;
+	Options o = global;
+	std::vector<std::string> extra;
+	std::vector<std::string> lineArgs(l.tok.size() > 1 ? l.tok.begin() + 1 : l.tok.end(),
+	                                  l.tok.end());
+	std::string error;
+	if (!l.error.empty())
+		out.code = kUsage, out.kind = "bad_line", out.message = l.error;
+	else if (stem.empty())
+		out.code = kUsage, out.kind = "bad_line", out.message = "no input file name";
+	else if (!unique)
+		out.code = kUsage, out.kind = "bad_line",
+		out.message =
+		    "its output name " + stem + " is line " + std::to_string(firstLine) + "'s too";
+	else if (!parseOptions(lineArgs, o, extra, error) || !extra.empty())
+		out.code = kUsage, out.kind = "bad_line",
+		out.message = extra.empty() ? error : "unexpected argument " + extra[0];
+	const std::string stemPath = outdir + "/" + stem, record = stemPath + ".gausslod.json";
+	std::string signature;
+	struct stat st;
+	if (out.code == kOk && stat(input.c_str(), &st) == 0) {
+		signature = std::to_string(st.st_size) + ":" + std::to_string(st.st_mtim.tv_sec) + "." +
+		            std::to_string(st.st_mtim.tv_nsec) + ":" + optionsKey(o);
+		const std::string previous = readFile(record);
+		if (previous.find("\"status\":\"ok\"") != std::string::npos &&
+		    previous.find("\"signature\":" + jsonString(signature)) != std::string::npos) {
+			std::string again = previous.substr(0, previous.find_last_not_of("\n") + 1);
+			again.replace(again.rfind("\"cached\":false"), 14, "\"cached\":true");
+			std::printf("%s\n", again.c_str());
+			std::fflush(stdout);
+			++ok, ++cached;
+			return;
+		}
+	}
+	if (out.code == kOk) {
+		const size_t cut = stemPath.find_last_of('/');
+		removeParts(stemPath);
+		// (inputs may share a folder: each tileset is named after its input)
+		o.tilesetName = stemPath.substr(cut + 1) + "_tileset.json";
+		out = runOne(input, stemPath.substr(0, cut), stemPath.substr(cut + 1), o, {});
+	}
+	const std::string json = resultJson(l, path, o.params, out, signature);
+	if (out.code == kOk && !writeAtomically(record, json + "\n"))
+		out.code = kCannotWrite, out.kind = "write_failed",
+		out.message = "cannot write " + record + ": " + std::strerror(errno);
+	std::printf("%s\n",
+	            out.code == kOk ? json.c_str() : resultJson(l, path, o.params, out, "").c_str());
+	std::fflush(stdout);
+	(out.code == kOk ? ok : failed) += 1;
+}
+
+} // namespace
+
+int batchMain(const std::vector<std::string> &argsIn)
+{
+	std::vector<std::string> args;
+	size_t part = 0, parts = 1;
+	const std::string partError = takePart(argsIn, args, part, parts);
+	if (!partError.empty())
+		return batchUsage(partError);
+	BatchRun run;
+	std::vector<std::string> positional;
+	std::string error;
+	if (!parseOptions(args, run.global, positional, error))
+		return batchUsage(error);
+	if (positional.size() != 2)
+		return batchUsage("needs MANIFEST and OUTDIR");
+	const std::string manifest = positional[0];
+	run.outdir = positional[1];
+	std::ifstream in(manifest);
+	if (!in) {
+		std::fprintf(stderr, "gausslod batch: cannot open the manifest %s\n", manifest.c_str());
+		return kCannotOpen;
+	}
+	const size_t slash = manifest.find_last_of('/');
+	run.base = slash == std::string::npos ? "" : manifest.substr(0, slash + 1);
+	const std::vector<Line> lines = readManifest(in);
+	std::map<std::string, size_t> firstLine; // output stem -> manifest line (the whole manifest)
 	const auto t0 = std::chrono::steady_clock::now();
 	for (size_t i = 0; i < lines.size(); ++i) {
 		const Line &l = lines[i];
-		const std::string path = l.tok.empty() ? "" : l.tok[0];
-		const std::string stem = outputStem(path);
+		const std::string stem = outputStem(l.tok.empty() ? "" : l.tok[0]);
 		const auto first = firstLine.emplace(stem, l.number);
-		if (i % parts != part)
-			continue;
-		const std::string input = !path.empty() && path[0] == '/' ? path : base + path;
-		Outcome out;
-		Options o = global;
-		std::vector<std::string> extra;
-		std::vector<std::string> lineArgs(l.tok.size() > 1 ? l.tok.begin() + 1 : l.tok.end(),
-		                                  l.tok.end());
-		if (!l.error.empty())
-			out.code = kUsage, out.kind = "bad_line", out.message = l.error;
-		else if (stem.empty())
-			out.code = kUsage, out.kind = "bad_line", out.message = "no input file name";
-		else if (!first.second)
-			out.code = kUsage, out.kind = "bad_line",
-			out.message = "its output name " + stem + " is line " +
-			              std::to_string(first.first->second) + "'s too";
-		else if (!parseOptions(lineArgs, o, extra, error) || !extra.empty())
-			out.code = kUsage, out.kind = "bad_line",
-			out.message = extra.empty() ? error : "unexpected argument " + extra[0];
-		const std::string stemPath = outdir + "/" + stem, record = stemPath + ".gausslod.json";
-		std::string signature;
-		struct stat st;
-		if (out.code == kOk && stat(input.c_str(), &st) == 0) {
-			signature = std::to_string(st.st_size) + ":" + std::to_string(st.st_mtim.tv_sec) + "." +
-			            std::to_string(st.st_mtim.tv_nsec) + ":" + optionsKey(o);
-			const std::string previous = readFile(record);
-			if (previous.find("\"status\":\"ok\"") != std::string::npos &&
-			    previous.find("\"signature\":" + jsonString(signature)) != std::string::npos) {
-				std::string again = previous.substr(0, previous.find_last_not_of("\n") + 1);
-				again.replace(again.rfind("\"cached\":false"), 14, "\"cached\":true");
-				std::printf("%s\n", again.c_str());
-				std::fflush(stdout);
-				++ok, ++cached;
-				continue;
-			}
-		}
-		if (out.code == kOk) {
-			const size_t cut = stemPath.find_last_of('/');
-			removeParts(stemPath);
-			// (inputs may share a folder: each tileset is named after its input)
-			o.tilesetName = stemPath.substr(cut + 1) + "_tileset.json";
-			out = runOne(input, stemPath.substr(0, cut), stemPath.substr(cut + 1), o, {});
-		}
-		const std::string json = resultJson(l, path, o.params, out, signature);
-		if (out.code == kOk && !writeAtomically(record, json + "\n"))
-			out.code = kCannotWrite, out.kind = "write_failed",
-			out.message = "cannot write " + record + ": " + std::strerror(errno);
-		std::printf("%s\n", out.code == kOk ? json.c_str()
-		                                    : resultJson(l, path, o.params, out, "").c_str());
-		std::fflush(stdout);
-		(out.code == kOk ? ok : failed) += 1;
+		if (i % parts == part)
+			run.runLine(l, stem, first.second, first.first->second);
 	}
 	const double secs =
 	    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	std::fprintf(stderr,
 	             "gausslod batch: part %zu/%zu: %zu ok (%zu already done), %zu failed, %.2f s\n",
-	             part, parts, ok, cached, failed, secs);
-	return failed ? kFailed : kOk;
+	             part, parts, run.ok, run.cached, run.failed, secs);
+	return run.failed ? kFailed : kOk;
 }
 
 } // namespace cli

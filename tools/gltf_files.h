@@ -54,18 +54,18 @@ inline float linearOfSrgb(unsigned char c)
 /// vertex colours.
 constexpr size_t kMaxColourMaterials = 64;
 
-/// `m` (a level's VCG mesh, with the attributes `mask` names: vcg::tri::io::Mask bits) as glTF
-/// arrays. `textures`: image files by texture index (as the mesh's wedge or vertex texture
-/// coordinates index them).
-template <class MeshT>
-void toGltfMesh(const MeshT &m, int mask, const std::vector<std::string> &textures, GltfMesh &out)
+namespace detail {
+
+/// A colour as one number (a map key).
+inline uint32_t colourKey(vcg::Color4b c)
 {
-	using Mask = vcg::tri::io::Mask;
-	out = GltfMesh();
-	out.textures = textures;
-	const bool normals = mask & Mask::IOM_VERTNORMAL, vcol = mask & Mask::IOM_VERTCOLOR,
-	           fcol = mask & Mask::IOM_FACECOLOR, wuv = mask & Mask::IOM_WEDGTEXCOORD,
-	           vuv = !wuv && (mask & Mask::IOM_VERTTEXCOORD);
+	return uint32_t(c[0]) | uint32_t(c[1]) << 8 | uint32_t(c[2]) << 16 | uint32_t(c[3]) << 24;
+}
+
+/// `out`'s bounding box and centre: those of `m`'s vertices.
+template <class MeshT>
+void gltfBox(const MeshT &m, GltfMesh &out)
+{
 	bool first = true;
 	for (const auto &v : m.vert) {
 		if (v.IsD())
@@ -79,21 +79,23 @@ void toGltfMesh(const MeshT &m, int mask, const std::vector<std::string> &textur
 	}
 	for (int j = 0; j < 3; ++j)
 		out.centre[j] = 0.5 * (out.lo[j] + out.hi[j]);
-	// face colours as materials when there are few of them
+}
+
+/// Whether `m`'s face colours are few enough to be materials (kMaxColourMaterials).
+template <class MeshT>
+bool fewFaceColours(const MeshT &m)
+{
 	std::map<uint32_t, int> colourIds;
-	if (fcol)
-		for (const auto &f : m.face)
-			if (!f.IsD() && colourIds.size() <= kMaxColourMaterials) {
-				const vcg::Color4b c = f.cC();
-				colourIds.emplace(uint32_t(c[0]) | uint32_t(c[1]) << 8 | uint32_t(c[2]) << 16 |
-				                      uint32_t(c[3]) << 24,
-				                  0);
-			}
-	const bool colourMaterials = fcol && colourIds.size() <= kMaxColourMaterials;
-	const bool colours = vcol || (fcol && !colourMaterials);
-	std::map<std::pair<uint32_t, int>, int> materialIds; // (colour, texture) -> material
-	// a glTF vertex per distinct (vertex, colour, u, v) of the corners: the first of each VCG
-	// vertex in flat arrays, the further ones (seams, colour borders) in a map
+	for (const auto &f : m.face)
+		if (!f.IsD() && colourIds.size() <= kMaxColourMaterials)
+			colourIds.emplace(colourKey(f.cC()), 0);
+	return colourIds.size() <= kMaxColourMaterials;
+}
+
+/// The glTF vertices of a mesh's corners: one per distinct (vertex, colour, u, v), the first of
+/// each VCG vertex in flat arrays, the further ones (seams, colour borders) in a map.
+class GltfVertices {
+public:
 	struct Variant {
 		uint32_t colour;
 		float u, v;
@@ -106,10 +108,66 @@ void toGltfMesh(const MeshT &m, int mask, const std::vector<std::string> &textur
 			return colour == o.colour && u == o.u && v == o.v;
 		}
 	};
-	std::vector<uint32_t> firstId(m.vert.size(), UINT32_MAX);
-	std::vector<Variant> firstVariant(m.vert.size());
-	std::map<std::pair<size_t, Variant>, uint32_t> furtherIds;
-	uint32_t count = 0;
+	explicit GltfVertices(size_t vertices) : firstId_(vertices, UINT32_MAX), firstVariant_(vertices)
+	{
+	}
+	/// The glTF vertex of VCG vertex `vi` with `var`; `added` says whether it is a new one.
+	uint32_t id(size_t vi, const Variant &var, bool &added)
+	{
+		added = false;
+		uint32_t id = firstId_[vi];
+		if (id == UINT32_MAX) {
+			id = firstId_[vi] = count_++, firstVariant_[vi] = var, added = true;
+		} else if (!(firstVariant_[vi] == var)) {
+			const auto f = furtherIds_.emplace(std::make_pair(vi, var), count_);
+			id = f.first->second;
+			if (f.second)
+				++count_, added = true;
+		}
+		return id;
+	}
+
+private:
+	std::vector<uint32_t> firstId_;
+	std::vector<Variant> firstVariant_;
+	std::map<std::pair<size_t, Variant>, uint32_t> furtherIds_;
+	uint32_t count_ = 0;
+};
+
+/// Normals of unit length (glTF requires it): a zero one, of a vertex no face spans, made up.
+inline void unitNormals(std::vector<float> &normals)
+{
+	for (size_t i = 0; i + 2 < normals.size(); i += 3) {
+		const float l = std::sqrt(normals[i] * normals[i] + normals[i + 1] * normals[i + 1] +
+		                          normals[i + 2] * normals[i + 2]);
+		if (l > 0 && std::isfinite(l))
+			for (int j = 0; j < 3; ++j)
+				normals[i + size_t(j)] /= l;
+		else
+			normals[i] = 0, normals[i + 1] = 0, normals[i + 2] = 1;
+	}
+}
+
+} // namespace detail
+
+/// `m` (a level's VCG mesh, with the attributes `mask` names: vcg::tri::io::Mask bits) as glTF
+/// arrays. `textures`: image files by texture index (as the mesh's wedge or vertex texture
+/// coordinates index them).
+template <class MeshT>
+void toGltfMesh(const MeshT &m, int mask, const std::vector<std::string> &textures, GltfMesh &out)
+{
+	using Mask = vcg::tri::io::Mask;
+	out = GltfMesh();
+	out.textures = textures;
+	const bool normals = mask & Mask::IOM_VERTNORMAL, vcol = mask & Mask::IOM_VERTCOLOR,
+	           fcol = mask & Mask::IOM_FACECOLOR, wuv = mask & Mask::IOM_WEDGTEXCOORD,
+	           vuv = !wuv && (mask & Mask::IOM_VERTTEXCOORD);
+	detail::gltfBox(m, out);
+	// face colours as materials when there are few of them
+	const bool colourMaterials = fcol && detail::fewFaceColours(m);
+	const bool colours = vcol || (fcol && !colourMaterials);
+	std::map<std::pair<uint32_t, int>, int> materialIds; // (colour, texture) -> material
+	detail::GltfVertices vertices(m.vert.size());
 	for (const auto &f : m.face) {
 		if (f.IsD())
 			continue;
@@ -120,9 +178,7 @@ void toGltfMesh(const MeshT &m, int mask, const std::vector<std::string> &textur
 				tex = textures.size() == 1 ? 0 : -1;
 		}
 		const vcg::Color4b fc = fcol ? f.cC() : vcg::Color4b(vcg::Color4b::White);
-		const uint32_t fkey = colourMaterials ? uint32_t(fc[0]) | uint32_t(fc[1]) << 8 |
-		                                            uint32_t(fc[2]) << 16 | uint32_t(fc[3]) << 24
-		                                      : 0xffffffffu;
+		const uint32_t fkey = colourMaterials ? detail::colourKey(fc) : 0xffffffffu;
 		const auto mid = materialIds.emplace(std::make_pair(fkey, tex), int(out.materials.size()));
 		if (mid.second) {
 			GltfMesh::Material mat;
@@ -142,51 +198,29 @@ void toGltfMesh(const MeshT &m, int mask, const std::vector<std::string> &textur
 				c = v->cC();
 			else if (colours)
 				c = fc;
-			const uint32_t ckey = colours ? uint32_t(c[0]) | uint32_t(c[1]) << 8 |
-			                                    uint32_t(c[2]) << 16 | uint32_t(c[3]) << 24
-			                              : 0;
+			const uint32_t ckey = colours ? detail::colourKey(c) : 0;
 			float u = 0, w = 0;
 			if (tex >= 0 || ((wuv || vuv) && textures.empty())) {
 				const auto &t = wuv ? f.cWT(k) : v->cT();
 				u = t.u(), w = 1.0f - t.v(); // (glTF's v runs down the image)
 			}
-			const Variant var{ckey, u, w};
-			uint32_t id = firstId[vi];
 			bool added = false;
-			if (id == UINT32_MAX) {
-				id = firstId[vi] = count++, firstVariant[vi] = var, added = true;
-			} else if (!(firstVariant[vi] == var)) {
-				const auto f = furtherIds.emplace(std::make_pair(vi, var), count);
-				id = f.first->second;
-				if (f.second)
-					++count, added = true;
-			}
-			if (added) {
+			prim.push_back(vertices.id(vi, {ckey, u, w}, added));
+			if (!added)
+				continue;
+			for (int j = 0; j < 3; ++j)
+				out.positions.push_back(float(v->cP()[j] - out.centre[j]));
+			if (normals)
 				for (int j = 0; j < 3; ++j)
-					out.positions.push_back(float(v->cP()[j] - out.centre[j]));
-				if (normals)
-					for (int j = 0; j < 3; ++j)
-						out.normals.push_back(float(v->cN()[j]));
-				if (colours)
-					for (int j = 0; j < 4; ++j)
-						out.colours.push_back(j < 3 ? linearOfSrgb(c[j]) : c[3] / 255.0f);
-				if (wuv || vuv)
-					out.uvs.insert(out.uvs.end(), {u, w});
-			}
-			prim.push_back(id);
+					out.normals.push_back(float(v->cN()[j]));
+			if (colours)
+				for (int j = 0; j < 4; ++j)
+					out.colours.push_back(j < 3 ? linearOfSrgb(c[j]) : c[3] / 255.0f);
+			if (wuv || vuv)
+				out.uvs.insert(out.uvs.end(), {u, w});
 		}
 	}
-	// (a normal glTF requires unit length: a zero one, of a vertex no face spans, is made up)
-	for (size_t i = 0; i + 2 < out.normals.size(); i += 3) {
-		const float l =
-		    std::sqrt(out.normals[i] * out.normals[i] + out.normals[i + 1] * out.normals[i + 1] +
-		              out.normals[i + 2] * out.normals[i + 2]);
-		if (l > 0 && std::isfinite(l))
-			for (int j = 0; j < 3; ++j)
-				out.normals[i + size_t(j)] /= l;
-		else
-			out.normals[i] = 0, out.normals[i + 1] = 0, out.normals[i + 2] = 1;
-	}
+	detail::unitNormals(out.normals);
 }
 
 /// Writes `meshes` as one binary glTF file at `path`: one node each. With more than one, the

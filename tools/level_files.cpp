@@ -179,54 +179,64 @@ bool LevelWriter::exportLevel(MeshT &mesh, const std::string &name,
                               const std::vector<int> &sourceFaces, std::vector<std::string> &files,
                               std::string &error) const
 {
-	const std::string part = ".part-" + std::to_string(getpid());
-	const std::string file = outdir_ + "/" + name;
 	if (in_.normals && (mask_ & Mask::IOM_VERTNORMAL))
 		vcg::tri::UpdateNormal<MeshT>::PerVertexNormalized(mesh);
 	mesh.textures = textures_;
-	auto failed = [&](const std::string &why) {
-		error = "cannot write " + file + ": " + why;
+	if (glb_)
+		return exportGltf(mesh, name, files, error);
+	if (format_ == MeshFormat::Obj)
+		return exportObj(mesh, name, sourceFaces, files, error);
+	const std::string file = outdir_ + "/" + name;
+	const std::string tmp = outdir_ + "/." + name + ".part-" + std::to_string(getpid());
+	if (!gausslod::exportMesh(mesh, tmp, format_, mask_, {}, {}, error)) {
+		std::remove(tmp.c_str());
 		return false;
-	};
-	if (glb_) { // (texture names are relative to OUTDIR: the images are read to be embedded)
-		std::vector<std::string> images;
-		for (const std::string &t : textures_)
-			images.push_back(!t.empty() && t[0] == '/' ? t : outdir_ + "/" + t);
-		GltfMesh g;
-		toGltfMesh(mesh, mask_, images, g);
-		const std::string tmp = outdir_ + "/." + name + part;
-		std::string warning;
-		if (!writeGlb({&g}, {}, tmp, warning, error, !gltfText_)) {
-			std::remove(tmp.c_str());
-			return false;
-		}
-		if (!warning.empty() && warnings_.insert(warning).second)
-			std::fprintf(stderr, "gausslod: %s\n", warning.c_str());
-		if (std::rename(tmp.c_str(), file.c_str()) != 0) {
-			std::remove(tmp.c_str());
-			return failed(std::strerror(errno));
-		}
-		if (keepGltf_)
-			gltf_.push_back(std::move(g));
-		files.push_back(file);
-		return true;
 	}
-	if (format_ != MeshFormat::Obj) {
-		const std::string tmp = outdir_ + "/." + name + part;
-		if (!gausslod::exportMesh(mesh, tmp, format_, mask_, {}, {}, error)) {
-			std::remove(tmp.c_str());
-			return false;
-		}
-		if (std::rename(tmp.c_str(), file.c_str()) != 0) {
-			std::remove(tmp.c_str());
-			return failed(std::strerror(errno));
-		}
-		files.push_back(file);
-		return true;
+	if (std::rename(tmp.c_str(), file.c_str()) != 0) {
+		std::remove(tmp.c_str());
+		error = "cannot write " + file + ": " + std::strerror(errno);
+		return false;
 	}
-	// OBJ: one material per (input material, or face colour and texture) the faces use
-	std::vector<Material> materials;
-	std::vector<int> faceMaterial(mesh.face.size());
+	files.push_back(file);
+	return true;
+}
+
+template <class MeshT>
+bool LevelWriter::exportGltf(const MeshT &mesh, const std::string &name,
+                             std::vector<std::string> &files, std::string &error) const
+{
+	const std::string file = outdir_ + "/" + name;
+	// (texture names are relative to OUTDIR: the images are read to be embedded)
+	std::vector<std::string> images;
+	for (const std::string &t : textures_)
+		images.push_back(!t.empty() && t[0] == '/' ? t : outdir_ + "/" + t);
+	GltfMesh g;
+	toGltfMesh(mesh, mask_, images, g);
+	const std::string tmp = outdir_ + "/." + name + ".part-" + std::to_string(getpid());
+	std::string warning;
+	if (!writeGlb({&g}, {}, tmp, warning, error, !gltfText_)) {
+		std::remove(tmp.c_str());
+		return false;
+	}
+	if (!warning.empty() && warnings_.insert(warning).second)
+		std::fprintf(stderr, "gausslod: %s\n", warning.c_str());
+	if (std::rename(tmp.c_str(), file.c_str()) != 0) {
+		std::remove(tmp.c_str());
+		error = "cannot write " + file + ": " + std::strerror(errno);
+		return false;
+	}
+	if (keepGltf_)
+		gltf_.push_back(std::move(g));
+	files.push_back(file);
+	return true;
+}
+
+template <class MeshT>
+void LevelWriter::objMaterials(const MeshT &mesh, const std::vector<int> &sourceFaces,
+                               std::vector<Material> &materials,
+                               std::vector<int> &faceMaterial) const
+{
+	faceMaterial.assign(mesh.face.size(), 0);
 	std::map<std::tuple<int, uint32_t, int>, int> ids;
 	const bool faceColour = (mask_ & Mask::IOM_FACECOLOR) != 0;
 	const bool uv = (mask_ & (Mask::IOM_WEDGTEXCOORD | Mask::IOM_VERTTEXCOORD)) != 0;
@@ -272,9 +282,25 @@ bool LevelWriter::exportLevel(MeshT &mesh, const std::string &name,
 		}
 		faceMaterial[f] = id.first->second;
 	}
+}
+
+template <class MeshT>
+bool LevelWriter::exportObj(MeshT &mesh, const std::string &name,
+                            const std::vector<int> &sourceFaces, std::vector<std::string> &files,
+                            std::string &error) const
+{
+	const std::string file = outdir_ + "/" + name;
+	auto failed = [&](const std::string &why) {
+		error = "cannot write " + file + ": " + why;
+		return false;
+	};
+	// one material per (input material, or face colour and texture) the faces use
+	std::vector<Material> materials;
+	std::vector<int> faceMaterial;
+	objMaterials(mesh, sourceFaces, materials, faceMaterial);
 	// VCG's exporter names the material file after the OBJ: both are written into a temporary
 	// folder under their final names, then moved (the material file first)
-	const std::string tmpDir = outdir_ + "/." + name + part;
+	const std::string tmpDir = outdir_ + "/." + name + ".part-" + std::to_string(getpid());
 	if (::mkdir(tmpDir.c_str(), 0777) != 0 && errno != EEXIST)
 		return failed(std::strerror(errno));
 	const std::string tmp = tmpDir + "/" + name;

@@ -111,6 +111,18 @@ private:
 	template <class MeshT>
 	bool exportLevel(MeshT &mesh, const std::string &name, const std::vector<int> &sourceFaces,
 	                 std::vector<std::string> &files, std::string &error) const;
+	template <class MeshT>
+	bool exportGltf(const MeshT &mesh, const std::string &name, std::vector<std::string> &files,
+	                std::string &error) const;
+	/// OBJ: the materials the faces use (the input's own where VCG reads the face's colour and
+	/// texture back from it) and each face's.
+	template <class MeshT>
+	void objMaterials(const MeshT &mesh, const std::vector<int> &sourceFaces,
+	                  std::vector<vcg::tri::io::Material> &materials,
+	                  std::vector<int> &faceMaterial) const;
+	template <class MeshT>
+	bool exportObj(MeshT &mesh, const std::string &name, const std::vector<int> &sourceFaces,
+	               std::vector<std::string> &files, std::string &error) const;
 
 	const InputMesh &in_;
 	std::string outdir_;

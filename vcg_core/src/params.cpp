@@ -456,23 +456,6 @@ bool parseLevelsBy(const std::string &text, Params &params, std::string &error)
 	return true;
 }
 
-std::string budgetNote(const LevelStats &s)
-{
-	if (s.targetReached || s.targetFaces == 0)
-		return "";
-	const std::string topology =
-	    (s.components > 1 ? std::to_string(s.components) + " parts, " : std::string()) +
-	    (s.boundaryLoops == 0 ? std::string("closed")
-	                          : std::to_string(s.boundaryLoops) + " boundary loop" +
-	                                (s.boundaryLoops == 1 ? "" : "s") + " kept open");
-	if (s.leastFaces > 0 && s.faces <= s.leastFaces)
-		return "the least a mesh of its topology can have (" + topology + ")";
-	return "no collapse is left that keeps its boundaries, seams, materials and shape valid" +
-	       (s.leastFaces > 0 ? " (its topology, " + topology + ", allows " +
-	                               std::to_string(s.leastFaces) + " faces)"
-	                         : std::string(" (non-manifold)"));
-}
-
 std::string levelsByText(const Params &p)
 {
 	const bool faces = !p.levelFaces.empty();
