@@ -108,28 +108,33 @@ int sphere(int seg, int rings, const std::string &out, bool bumpy)
 	return bench::writePly(out, pos, tri) ? 0 : 1;
 }
 
-int convert(const std::string &in, const std::string &out)
+// The mesh of file `in` as flat arrays; false (and a message) if it cannot be read.
+bool loadFlat(const std::string &in, bench::Flat &f)
 {
 	bench::FMesh m;
 	std::string err;
 	if (!bench::load(m, in, err)) {
 		std::fprintf(stderr, "bench_gen: cannot read %s: %s\n", in.c_str(), err.c_str());
-		return 1;
+		return false;
 	}
-	const bench::Flat f = bench::flatten(m);
+	f = bench::flatten(m);
+	return true;
+}
+
+int convert(const std::string &in, const std::string &out)
+{
+	bench::Flat f;
+	if (!loadFlat(in, f))
+		return 1;
 	return bench::writePly(out, f.pos, f.tri) ? 0 : 1;
 }
 
 // Each triangle into 4 at its edge midpoints, K times; a midpoint is shared by the edge's faces.
 int subdivide(int k, const std::string &in, const std::string &out)
 {
-	bench::FMesh m;
-	std::string err;
-	if (!bench::load(m, in, err)) {
-		std::fprintf(stderr, "bench_gen: cannot read %s: %s\n", in.c_str(), err.c_str());
+	bench::Flat f;
+	if (!loadFlat(in, f))
 		return 1;
-	}
-	const bench::Flat f = bench::flatten(m);
 	std::vector<double> pos(f.pos.begin(), f.pos.end());
 	std::vector<uint32_t> tri = f.tri;
 	for (int round = 0; round < k; ++round) {
