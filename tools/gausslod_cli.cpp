@@ -83,8 +83,9 @@ void printTableHead(const cli::Options &o, const cli::Outcome &sofar, const gaus
 		std::printf("levels by %s\n", gausslod::levelsByText(o.params).c_str());
 	const unsigned shown = shownColumns(o.params, sofar.texCoords);
 	std::string header;
-	for (const gausslod::LevelFigure *f :
-	     gausslod::tableColumns(gausslod::levelFigures(s, sofar.diagonal, o.params), shown))
+	const std::vector<gausslod::LevelFigure> figures =
+	    gausslod::levelFigures(s, sofar.diagonal, o.params); // (the columns point into it)
+	for (const gausslod::LevelFigure *f : gausslod::tableColumns(figures, shown))
 		header += f->header;
 	std::printf("%s\n", header.c_str());
 	const bool distance = shown & (1u << unsigned(gausslod::ColumnShown::Distance));
@@ -103,9 +104,10 @@ void printLevel(const cli::Options &o, const cli::Outcome &sofar, const gausslod
 		if (sofar.files.size() == 1)
 			printTableHead(o, sofar, s);
 		std::string row;
+		const std::vector<gausslod::LevelFigure> figures =
+		    gausslod::levelFigures(s, sofar.diagonal, o.params); // (the columns point into it)
 		for (const gausslod::LevelFigure *f :
-		     gausslod::tableColumns(gausslod::levelFigures(s, sofar.diagonal, o.params),
-		                            shownColumns(o.params, sofar.texCoords)))
+		     gausslod::tableColumns(figures, shownColumns(o.params, sofar.texCoords)))
 			row += f->cell;
 		std::printf("%s\n", row.c_str());
 	}
