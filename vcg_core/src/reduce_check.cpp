@@ -57,39 +57,90 @@ void nearestBarycentric(const Vec3 &p, const Vec3 &a, const Vec3 &b, const Vec3 
 
 } // namespace
 
+// The checks a planned collapse must pass, in this order (the first to veto ends it): a new check
+// is a member of Reducer (its own file if it is long) and one line here.
+const Reducer::Check Reducer::kChecks[] = {
+    {"proof", &Reducer::proven},
+    {"triangles", &Reducer::notDegenerate},
+    {"distance bound", &Reducer::withinBound},
+    {"normal limit", &Reducer::withinNormalLimit},
+    {"facing", &Reducer::notTurned},
+    {"texture", &Reducer::withinTexture},
+};
+
 bool Reducer::check(Plan &pl) const
 {
+	for (const Check &c : kChecks)
+		if (!(this->*c.passes)(pl))
+			return false;
+	return true;
+}
+
+bool Reducer::proven(Plan &pl) const { return provePatch(pl.pc, kFacing, slop(), pl.proof); }
+
+bool Reducer::notDegenerate(Plan &pl) const
+{
 	const PatchCase &c = pl.pc;
-	if (!provePatch(c, kFacing, slop(), pl.proof))
-		return false;
 	for (int i = 0; i < c.nNew; ++i) {
 		const Vec3 &a = c.pos[c.newTri[i][0]], &b = c.pos[c.newTri[i][1]],
 		           &d = c.pos[c.newTri[i][2]];
 		Vec3 nt = (b - a) ^ (d - a);
 		if (!(nt.Norm() > 1e-30 * t_.diagonal * t_.diagonal))
 			return false;
-		nt.Normalize();
+		pl.normal[i] = nt.Normalize();
+	}
+	return true;
+}
+
+bool Reducer::withinBound(Plan &pl) const
+{
+	// (a new triangle's bound: the largest of the triangles under it, plus its proof's gap)
+	const PatchCase &c = pl.pc;
+	for (int i = 0; i < c.nNew; ++i) {
 		double e = 0;
-		for (int j = 0; j < c.nOld; ++j) {
-			if (!(pl.proof.under[i] >> j & 1))
-				continue;
-			const int32_t s = pl.oldId[j];
-			e = std::max(e, e_[size_t(s)]);
-			if (lim_.normalDeg < 180) {
-				const NormalCone &k = cone_[size_t(s)];
-				if (angleDeg(nt, k.axis) + k.half > lim_.normalDeg)
-					return false;
-			}
-			if (s == pl.newId[i] && checkFacing_) { // (the triangle it replaces: not turned over)
-				Vec3 ns = normal(s);
-				if (nt.dot(ns) < 0)
-					return false;
-			}
-		}
+		for (int j = 0; j < c.nOld; ++j)
+			if (pl.proof.under[i] >> j & 1)
+				e = std::max(e, e_[size_t(pl.oldId[j])]);
 		pl.bound[i] = e + pl.proof.gap[i];
 		if (pl.bound[i] > lim_.bound)
 			return false;
 	}
+	return true;
+}
+
+bool Reducer::withinNormalLimit(Plan &pl) const
+{
+	// (every input face under a new triangle, through the normal cone of the triangle it was under)
+	if (!(lim_.normalDeg < 180))
+		return true;
+	const PatchCase &c = pl.pc;
+	for (int i = 0; i < c.nNew; ++i)
+		for (int j = 0; j < c.nOld; ++j) {
+			if (!(pl.proof.under[i] >> j & 1))
+				continue;
+			const NormalCone &k = cone_[size_t(pl.oldId[j])];
+			if (angleDeg(pl.normal[i], k.axis) + k.half > lim_.normalDeg)
+				return false;
+		}
+	return true;
+}
+
+bool Reducer::notTurned(Plan &pl) const
+{
+	// (a new triangle that reuses a mesh triangle under it: not turned over against it)
+	if (!checkFacing_)
+		return true;
+	const PatchCase &c = pl.pc;
+	for (int i = 0; i < c.nNew; ++i)
+		for (int j = 0; j < c.nOld; ++j)
+			if ((pl.proof.under[i] >> j & 1) && pl.oldId[j] == pl.newId[i] &&
+			    pl.normal[i].dot(normal(pl.oldId[j])) < 0)
+				return false;
+	return true;
+}
+
+bool Reducer::withinTexture(Plan &pl) const
+{
 	if (!srcC_.empty())
 		wedges(pl);
 	return textureError(pl);

@@ -151,6 +151,7 @@ struct Plan {
 	float newUV[PatchCase::kMaxTris][2];
 	bool extended[PatchCase::kMaxTris]; // (its chart's mapping extended to the kept vertex)
 	PatchProof proof;
+	Vec3 normal[PatchCase::kMaxTris]; // (per new triangle: its unit normal)
 	double bound[PatchCase::kMaxTris];
 	double uvBound[PatchCase::kMaxTris];
 };
@@ -251,8 +252,19 @@ private:
 	bool planHalf(int32_t v, int32_t u, Plan &pl) const;
 	bool plan(int32_t a, int32_t b, int op, const Vec3 &pos, Plan &pl) const;
 
-	// a planned collapse's checks and texture (reduce_check.cpp)
-	bool check(Plan &pl) const;
+	// a planned collapse's checks (reduce_check.cpp: kChecks, in order) and texture
+	struct Check {
+		const char *name;
+		bool (Reducer::*passes)(Plan &pl) const;
+	};
+	static const Check kChecks[];
+	bool check(Plan &pl) const; ///< every one of kChecks passes
+	bool proven(Plan &pl) const;
+	bool notDegenerate(Plan &pl) const;
+	bool withinBound(Plan &pl) const;
+	bool withinNormalLimit(Plan &pl) const;
+	bool notTurned(Plan &pl) const;
+	bool withinTexture(Plan &pl) const;
 	bool facesInput(const Plan &pl) const;
 	void wedges(Plan &pl) const;
 	bool textureError(Plan &pl) const;
