@@ -6,6 +6,8 @@
 
 #include "engine.h"
 
+#include <algorithm>
+
 namespace gausslod {
 namespace detail {
 
@@ -46,8 +48,33 @@ private:
 	void buildNodes();
 };
 
-/// Which bound of a piece held it (hausdorff.cpp): its corners (Lipschitz, convexity), the cover
-/// by the other side's triangles, the split by planes between them.
+/// Squared distance from p to the segment a-b.
+inline double segmentDistance2(const Vec3 &p, const Vec3 &a, const Vec3 &b)
+{
+	const Vec3 ab = b - a;
+	const double l2 = ab.SquaredNorm();
+	const double t = l2 > 0 ? std::min(1.0, std::max(0.0, (p - a).dot(ab) / l2)) : 0.0;
+	return (p - (a + ab * t)).SquaredNorm();
+}
+
+// (inline here: the inner loops of the bounds, in other files, call them per candidate)
+inline Vec3 TriangleTree::v(int32_t f, int k) const
+{
+	const double *q = &P_[3 * size_t(T_[3 * size_t(f) + size_t(k)])];
+	return Vec3(q[0], q[1], q[2]);
+}
+
+inline double TriangleTree::distance2(int32_t f, const Vec3 &p) const
+{
+	const Vec3 a = v(f, 0), b = v(f, 1), c = v(f, 2);
+	if (flat_[size_t(f)])
+		return std::min(
+		    {segmentDistance2(p, a, b), segmentDistance2(p, b, c), segmentDistance2(p, c, a)});
+	return pointTriangleDistance2(p, a, b, c);
+}
+
+/// Which bound of a piece held it (hausdorff_bounds.cpp): its corners (Lipschitz, convexity), the
+/// cover by the other side's triangles, the split by planes between them.
 enum class BoundBy : uint8_t { corners, cover, split };
 
 struct HausdorffBounds {

@@ -9,14 +9,6 @@ namespace {
 
 constexpr int kLeafSize = 4;
 
-double segmentDistance2(const Vec3 &p, const Vec3 &a, const Vec3 &b)
-{
-	const Vec3 ab = b - a;
-	const double l2 = ab.SquaredNorm();
-	const double t = l2 > 0 ? std::min(1.0, std::max(0.0, (p - a).dot(ab) / l2)) : 0.0;
-	return (p - (a + ab * t)).SquaredNorm();
-}
-
 double boxDistance2(const Vec3 &p, const Vec3 &lo, const Vec3 &hi)
 {
 	double d2 = 0;
@@ -167,21 +159,6 @@ void TriangleTree::buildNodes()
 		for (int j = 0; j < 3; ++j)
 			n.lo[j] = std::min(l.lo[j], r.lo[j]), n.hi[j] = std::max(l.hi[j], r.hi[j]);
 	}
-}
-
-Vec3 TriangleTree::v(int32_t f, int k) const
-{
-	const double *q = &P_[3 * size_t(T_[3 * size_t(f) + size_t(k)])];
-	return Vec3(q[0], q[1], q[2]);
-}
-
-double TriangleTree::distance2(int32_t f, const Vec3 &p) const
-{
-	const Vec3 a = v(f, 0), b = v(f, 1), c = v(f, 2);
-	if (flat_[size_t(f)])
-		return std::min(
-		    {segmentDistance2(p, a, b), segmentDistance2(p, b, c), segmentDistance2(p, c, a)});
-	return pointTriangleDistance2(p, a, b, c);
 }
 
 bool TriangleTree::collect(const Vec3 &lo, const Vec3 &hi, int32_t *out, int &n, int cap) const
