@@ -50,7 +50,7 @@ std::vector<LevelFigure> levelFigures(const LevelStats &s, double diagonal, cons
 /// The input repairs as figures (group Input), in the JSON line's order.
 std::vector<LevelFigure> inputFigures(const InputStats &in);
 
-/// The figure named `key` of `figures` (it must be there).
+/// The figure named `key` of `figures` (one not known, with no key, if none is named so).
 const LevelFigure &figure(const std::vector<LevelFigure> &figures, const char *key);
 
 /// The JSON members "key":value of the figures of `group`, comma separated, in order.

@@ -81,16 +81,25 @@ void chooseKept(const Topology &t, const Regions &r, double eps, const std::vect
 	});
 }
 
+// A worker of the regions' triangulations: its triangles and scratch.
+struct RegionWorker {
+	std::vector<int32_t> tris, ringVerts, ringStart, touched, forcedList, sorted;
+	TriangulationJob job;
+	size_t forced = 0;
+	double chainDev = 0; ///< the largest distance of a dropped chain vertex from its segment
+};
+
 // The rings of region r (its border half-edges, the region on their left), as their kept
-// vertices, appended to ringVerts (ringStart: where each ring begins). False if a border
+// vertices, appended to w.ringVerts (w.ringStart: where each ring begins). False if a border
 // vertex is passed twice (a pinch) or a ring keeps fewer than 3 vertices.
 bool regionRings(const Topology &t, const Regions &r, int32_t reg, const int32_t *faces,
                  size_t nFaces, const std::vector<uint8_t> &keep, double eps,
-                 const std::vector<uint8_t> &forced, std::vector<int32_t> &forcedList,
-                 size_t &forcedCount, double &chainDev, std::vector<uint8_t> &heSeen,
-                 std::vector<int32_t> &ringVerts, std::vector<int32_t> &ringStart,
-                 std::vector<int32_t> &touched, std::vector<int32_t> &sorted)
+                 const std::vector<uint8_t> &forced, std::vector<uint8_t> &heSeen, RegionWorker &w)
 {
+	std::vector<int32_t> &forcedList = w.forcedList, &ringVerts = w.ringVerts,
+	                     &ringStart = w.ringStart, &touched = w.touched, &sorted = w.sorted;
+	size_t &forcedCount = w.forced;
+	double &chainDev = w.chainDev;
 	auto inside = [&](int32_t h) {
 		const int32_t tw = t.joinTwin(size_t(h));
 		return tw >= 0 && r.of[size_t(heFace(tw))] == reg;
@@ -204,14 +213,6 @@ void regionFaces(const Topology &t, const Regions &r, std::vector<int32_t> &star
 			faces[size_t(fill[size_t(r.of[f])]++)] = int32_t(f);
 }
 
-// A worker of the regions' triangulations: its triangles and scratch.
-struct RegionWorker {
-	std::vector<int32_t> tris, ringVerts, ringStart, touched, forcedList, sorted;
-	TriangulationJob job;
-	size_t forced = 0;
-	double chainDev = 0; ///< the largest distance of a dropped chain vertex from its segment
-};
-
 // The regions' triangulations: region k's (if not dead) are tris[triStart[k] .. triEnd[k]) of
 // worker triWorker[k], on input vertices; keep: the kept vertices they were made with.
 struct RegionTriangles {
@@ -229,10 +230,8 @@ bool triangulateRegion(const Topology &t, Regions &r, size_t k, const RegionTria
                        RegionWorker &w)
 {
 	const std::vector<int32_t> &start = rt.start;
-	bool ok =
-	    regionRings(t, r, int32_t(k), &rt.faces[size_t(start[k])], size_t(start[k + 1] - start[k]),
-	                rt.keep, eps, forced, w.forcedList, w.forced, w.chainDev, heSeen, w.ringVerts,
-	                w.ringStart, w.touched, w.sorted);
+	bool ok = regionRings(t, r, int32_t(k), &rt.faces[size_t(start[k])],
+	                      size_t(start[k + 1] - start[k]), rt.keep, eps, forced, heSeen, w);
 	for (const int32_t h : w.touched)
 		heSeen[size_t(h)] = 0;
 	w.touched.clear();

@@ -49,11 +49,13 @@ inline double pointTriangleDistance2(const Vec3 &p, const Vec3 &a, const Vec3 &b
 	return (ap - ab * (vb * den) - ac * (vc * den)).SquaredNorm();
 }
 
-/// The angle whose cosine this is (clamped to [-1, 1]), degrees.
+/// The angle whose cosine this is (clamped to [-1, 1]), radians.
+inline double angleOfCos(double cosine) { return std::acos(std::max(-1.0, std::min(1.0, cosine))); }
+/// The same, degrees.
 inline double angleDegOfCos(double cosine)
 {
 	constexpr double kRadToDeg = 57.295779513082320876798;
-	return std::acos(std::max(-1.0, std::min(1.0, cosine))) * kRadToDeg;
+	return angleOfCos(cosine) * kRadToDeg;
 }
 /// Angle between two unit vectors, degrees.
 inline double angleDeg(const Vec3 &a, const Vec3 &b) { return angleDegOfCos(a.dot(b)); }

@@ -215,7 +215,7 @@ void Accretion::borderSeeds()
 		if (group_[s] < 0 && fine_.cell[s] != kInvalidCell)
 			order.push_back(int32_t(s));
 	sortByAreaDescending(area, order);
-	std::vector<double>().swap(area);
+	release(area);
 	const int m = meshNum(fine_.level);
 	for (const int32_t s : order)
 		if (group_[size_t(s)] < 0)
@@ -371,8 +371,6 @@ struct AcrossPair {
 	int32_t a, b;
 	double dot;
 };
-
-inline double angleOfCos(double cosine) { return std::acos(std::max(-1.0, std::min(1.0, cosine))); }
 
 // The nodes, filled with each superface's area, area-weighted mean normal and the cone around it
 // holding its normals (its radius); limit: the cone half-angle of a union.

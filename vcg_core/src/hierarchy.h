@@ -38,7 +38,5 @@ bool sameCoarserPartition(const Partition &fine,
                           const std::vector<std::pair<int32_t, int32_t>> &adjacent, double boundDeg,
                           Partition &out);
 
-/// 2.2.2-2.4 for one level: borders, straightening, vicinity merging, re-triangulation; splits
-
 } // namespace detail
 } // namespace gausslod

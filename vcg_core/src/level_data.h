@@ -119,8 +119,7 @@ struct ChunkOut {
 	}
 };
 
-/// What flipTowardSurface keeps between superfaces (per thread).
-
+/// Per input face measurements, kept across rounds (a superface rebuilt resets its faces).
 struct FaceMeasures {
 	std::vector<float> dev; ///< normal deviation, degrees; -1 = not measured
 	std::vector<float> gap; ///< distance bound (distanceBound; maxDistance > 0 only)

@@ -1,7 +1,10 @@
-// A level's figures by name (gausslod/level_figures.h), and why a face budget was not reached.
+// A level's figures by name (gausslod/level_figures.h), and why a face budget was not reached
+// (budgetNote, declared in gausslod.h).
 #include "gausslod/level_figures.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <string>
 
 namespace gausslod {
@@ -217,9 +220,8 @@ std::vector<LevelFigure> inputFigures(const InputStats &in)
 
 const LevelFigure &figure(const std::vector<LevelFigure> &figures, const char *key)
 {
-	const std::string k = key;
 	for (const LevelFigure &f : figures)
-		if (k == f.key)
+		if (std::strcmp(key, f.key) == 0)
 			return f;
 	static const LevelFigure none = [] {
 		LevelFigure f;
@@ -242,16 +244,13 @@ std::vector<const LevelFigure *> tableColumns(const std::vector<LevelFigure> &fi
                                               unsigned shown)
 {
 	std::vector<const LevelFigure *> columns;
-	for (int c = 1;; ++c) {
-		const LevelFigure *found = nullptr;
-		for (const LevelFigure &f : figures)
-			if (f.column == c)
-				found = &f;
-		if (found == nullptr)
-			return columns;
-		if (shown & (1u << unsigned(found->shown)))
-			columns.push_back(found);
-	}
+	for (const LevelFigure &f : figures)
+		if (f.column > 0 && (shown & (1u << unsigned(f.shown))))
+			columns.push_back(&f);
+	std::stable_sort(
+	    columns.begin(), columns.end(),
+	    [](const LevelFigure *a, const LevelFigure *b) { return a->column < b->column; });
+	return columns;
 }
 
 std::string budgetNote(const LevelStats &s)

@@ -3,7 +3,8 @@
 // reads as const and what it writes as non-const:
 //   border_rings.cpp            2.2.2  borders, junctions, rings of every superface
 //   straighten_merge.cpp        2.3    straightening (2.3.1) and vicinity merging (2.3.2)
-//   superface_triangulation.cpp 2.4    re-triangulation of one superface and its checks
+//   superface_triangulation.cpp 2.4    re-triangulation of one superface, its retries
+//   superface_checks.cpp        2.4    the checks of a pass, one registry
 //   superface_projection.cpp    2.4    a superface's projection and triangulation job
 //   distance_check.cpp          2.4    the distance tolerance (beyond the paper)
 //   distance_bound.cpp          2.4    the distance bound of a superface (beyond the paper)

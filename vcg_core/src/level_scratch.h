@@ -10,6 +10,7 @@
 namespace gausslod {
 namespace detail {
 
+/// What flipTowardSurface keeps between superfaces (per thread).
 struct FlipScratch {
 	std::vector<int32_t> queryVertex; ///< per vertex query of the job: its input vertex
 	std::vector<int32_t> head, next;  ///< per triangle / query: the queries it holds (lists)
@@ -177,8 +178,6 @@ struct Chunks {
 		});
 	}
 };
-
-/// Per input face measurements, kept across rounds (a superface rebuilt resets its faces).
 
 } // namespace detail
 } // namespace gausslod

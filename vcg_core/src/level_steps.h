@@ -40,7 +40,8 @@ struct ChainInput {
 /// interior vertex on all but one of the chains with the same two ends.
 void straightenBorders(const ChainInput &in, Chunks &chunks, Borders &b);
 
-// ---- 2.4 re-triangulation of a superface (superface_triangulation.cpp, distance_check.cpp)
+// ---- 2.4 re-triangulation of a superface (superface_triangulation.cpp, superface_checks.cpp,
+// distance_check.cpp, distance_bound.cpp, superface_projection.cpp)
 
 /// What the re-triangulation of a round's superfaces reads.
 struct TriangulationInput {
@@ -127,13 +128,13 @@ bool nearestInputFacing(const Topology &t, const Vec3 &c, const Vec3 &n, double 
 double distanceBound(const TriangulationInput &in, int32_t s, const Vec3 &N, size_t firstTri,
                      Scratch &w, const ChunkOut &o, std::vector<float> &bound);
 
-/// Vertex placement (placement.cpp): superface s's accepted triangles `tris` (ntri of them, on
-/// input vertex numbers, `bits` their border bits) made into w.job as a re-triangulation would
-/// have left it, with the output vertices at in.out(): the rings' kept vertices, then the other
-/// vertices of the triangles (its inside vertices), projected on the plane orthogonal to N (the
-/// superface's, set here), and every query located in a triangle (just outside the triangles:
-/// the nearest one). False if s is not one a re-triangulation accepts (its faces fold in
-/// projection, its rings are broken, a triangle has a vertex that is not its).
+/// For vertex placement (placement.cpp; superface_projection.cpp): superface s's accepted triangles
+/// `tris` (ntri of them, on input vertex numbers, `bits` their border bits) made into w.job as a
+/// re-triangulation would have left it, with the output vertices at in.out(): the rings' kept
+/// vertices, then the other vertices of the triangles (its inside vertices), projected on the plane
+/// orthogonal to N (the superface's, set here), and every query located in a triangle (just outside
+/// the triangles: the nearest one). False if s is not one a re-triangulation accepts (its faces
+/// fold in projection, its rings are broken, a triangle has a vertex that is not its).
 bool jobFromTriangles(const TriangulationInput &in, int32_t s, const int32_t *tris,
                       const uint8_t *bits, size_t ntri, Vec3 &N, Scratch &w);
 /// The checks of a re-triangulation (triangulateAndCheck) on what jobFromTriangles left, its
