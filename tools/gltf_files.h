@@ -6,6 +6,7 @@
 // translation carries the centre, so that far-away coordinates keep their precision).
 #pragma once
 
+#include "gausslod/vcg_adapter.h"
 #include "gausslod_io/io_mesh.h"
 
 #include <wrap/io_trimesh/io_mask.h>
@@ -57,10 +58,7 @@ constexpr size_t kMaxColourMaterials = 64;
 namespace detail {
 
 /// A colour as one number (a map key).
-inline uint32_t colourKey(vcg::Color4b c)
-{
-	return uint32_t(c[0]) | uint32_t(c[1]) << 8 | uint32_t(c[2]) << 16 | uint32_t(c[3]) << 24;
-}
+inline uint32_t colourKey(vcg::Color4b c) { return uint32_t(gausslod::detail::colourBits(c)); }
 
 /// `out`'s bounding box and centre: those of `m`'s vertices.
 template <class MeshT>

@@ -186,48 +186,30 @@ bool LevelWriter::exportLevel(MeshT &mesh, const std::string &name,
 		return exportGltf(mesh, name, files, error);
 	if (format_ == MeshFormat::Obj)
 		return exportObj(mesh, name, sourceFaces, files, error);
-	const std::string file = outdir_ + "/" + name;
-	const std::string tmp = outdir_ + "/." + name + ".part-" + std::to_string(getpid());
-	if (!gausslod::exportMesh(mesh, tmp, format_, mask_, {}, {}, error)) {
-		std::remove(tmp.c_str());
-		return false;
-	}
-	if (std::rename(tmp.c_str(), file.c_str()) != 0) {
-		std::remove(tmp.c_str());
-		error = "cannot write " + file + ": " + std::strerror(errno);
-		return false;
-	}
-	files.push_back(file);
-	return true;
+	const std::string tmp = partPath(name);
+	return moveInto(tmp, gausslod::exportMesh(mesh, tmp, format_, mask_, {}, {}, error), name,
+	                files, error);
 }
 
 template <class MeshT>
 bool LevelWriter::exportGltf(const MeshT &mesh, const std::string &name,
                              std::vector<std::string> &files, std::string &error) const
 {
-	const std::string file = outdir_ + "/" + name;
 	// (texture names are relative to OUTDIR: the images are read to be embedded)
 	std::vector<std::string> images;
 	for (const std::string &t : textures_)
 		images.push_back(!t.empty() && t[0] == '/' ? t : outdir_ + "/" + t);
 	GltfMesh g;
 	toGltfMesh(mesh, mask_, images, g);
-	const std::string tmp = outdir_ + "/." + name + ".part-" + std::to_string(getpid());
+	const std::string tmp = partPath(name);
 	std::string warning;
-	if (!writeGlb({&g}, {}, tmp, warning, error, !gltfText_)) {
-		std::remove(tmp.c_str());
-		return false;
-	}
-	if (!warning.empty() && warnings_.insert(warning).second)
+	const bool written = writeGlb({&g}, {}, tmp, warning, error, !gltfText_);
+	if (written && !warning.empty() && warnings_.insert(warning).second)
 		std::fprintf(stderr, "gausslod: %s\n", warning.c_str());
-	if (std::rename(tmp.c_str(), file.c_str()) != 0) {
-		std::remove(tmp.c_str());
-		error = "cannot write " + file + ": " + std::strerror(errno);
+	if (!moveInto(tmp, written, name, files, error))
 		return false;
-	}
 	if (keepGltf_)
 		gltf_.push_back(std::move(g));
-	files.push_back(file);
 	return true;
 }
 
@@ -260,9 +242,7 @@ void LevelWriter::objMaterials(const MeshT &mesh, const std::vector<int> &source
 			     (tex < 0 && in_.materials[size_t(m)].map_Kd.empty())))
 				source = m;
 		}
-		const uint32_t key = source >= 0 ? 0
-		                                 : uint32_t(c[0]) | uint32_t(c[1]) << 8 |
-		                                       uint32_t(c[2]) << 16 | uint32_t(c[3]) << 24;
+		const uint32_t key = source >= 0 ? 0 : detail::colourKey(c);
 		const auto id = ids.emplace(std::make_tuple(source, key, source >= 0 ? -1 : tex),
 		                            int(materials.size()));
 		if (id.second) {
@@ -300,7 +280,7 @@ bool LevelWriter::exportObj(MeshT &mesh, const std::string &name,
 	objMaterials(mesh, sourceFaces, materials, faceMaterial);
 	// VCG's exporter names the material file after the OBJ: both are written into a temporary
 	// folder under their final names, then moved (the material file first)
-	const std::string tmpDir = outdir_ + "/." + name + ".part-" + std::to_string(getpid());
+	const std::string tmpDir = partPath(name);
 	if (::mkdir(tmpDir.c_str(), 0777) != 0 && errno != EEXIST)
 		return failed(std::strerror(errno));
 	const std::string tmp = tmpDir + "/" + name;
@@ -318,6 +298,27 @@ bool LevelWriter::exportObj(MeshT &mesh, const std::string &name,
 	files.push_back(file);
 	if (hasMtl)
 		files.push_back(mtl);
+	return true;
+}
+
+std::string LevelWriter::partPath(const std::string &name) const
+{
+	return outdir_ + "/." + name + ".part-" + std::to_string(getpid());
+}
+
+bool LevelWriter::moveInto(const std::string &tmp, bool written, const std::string &name,
+                           std::vector<std::string> &files, std::string &error) const
+{
+	const std::string file = outdir_ + "/" + name;
+	if (written && std::rename(tmp.c_str(), file.c_str()) != 0) {
+		error = "cannot write " + file + ": " + std::strerror(errno);
+		written = false;
+	}
+	if (!written) {
+		std::remove(tmp.c_str());
+		return false;
+	}
+	files.push_back(file);
 	return true;
 }
 
@@ -341,22 +342,11 @@ bool LevelWriter::writeNamed(const gausslod::LevelMesh &level, const std::string
 	// the lean path of files without attributes, and STL (it holds none: the triangles only)
 	if (format_ == MeshFormat::Stl || !in_.mesh) {
 		if (!glb_ && (format_ == MeshFormat::Stl || (format_ == MeshFormat::Ply && !in_.normals))) {
-			const std::string file = outdir_ + "/" + name;
-			const std::string tmp = outdir_ + "/." + name + ".part-" + std::to_string(getpid());
+			const std::string tmp = partPath(name);
 			const bool ok = format_ == MeshFormat::Stl
 			                    ? gausslod::writeLevelStl(level, tmp, error)
 			                    : gausslod::writeLevelPly(level, tmp, superfaceColours_, error);
-			if (!ok) {
-				std::remove(tmp.c_str());
-				return false;
-			}
-			if (std::rename(tmp.c_str(), file.c_str()) != 0) {
-				error = "cannot write " + file + ": " + std::strerror(errno);
-				std::remove(tmp.c_str());
-				return false;
-			}
-			files.push_back(file);
-			return true;
+			return moveInto(tmp, ok, name, files, error);
 		}
 		gausslod::IoMesh mesh;
 		gausslod::toVcgMesh(level, mesh, superfaceColours_, false);

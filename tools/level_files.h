@@ -123,6 +123,12 @@ private:
 	template <class MeshT>
 	bool exportObj(MeshT &mesh, const std::string &name, const std::vector<int> &sourceFaces,
 	               std::vector<std::string> &files, std::string &error) const;
+	/// OUTDIR/.<name>.part-<pid>: where a level file is written before it is moved to its name.
+	std::string partPath(const std::string &name) const;
+	/// The file written at `tmp` (if `written`) moved to OUTDIR/`name` and added to `files`; else,
+	/// or if it cannot be moved, `tmp` removed and false (`error` says why).
+	bool moveInto(const std::string &tmp, bool written, const std::string &name,
+	              std::vector<std::string> &files, std::string &error) const;
 
 	const InputMesh &in_;
 	std::string outdir_;
