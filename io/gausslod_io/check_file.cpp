@@ -138,13 +138,13 @@ bool checkPlyFile(const std::string &path, FILE *f, uint64_t size, double vb, do
 }
 
 /// An OBJ, scanned from its own folder (c.folder, c.vcgPath).
-bool checkObjFile(const std::string &path, FILE *f, uint64_t size, double vb, double fb,
-                  CheckedFile &c, ReadError &e)
+bool checkObjFile(const std::string &path, FILE *f, double vb, double fb, CheckedFile &c,
+                  ReadError &e)
 {
 	using vcg::tri::io::Mask;
 	c.folder.reset(new InFolder(path));
 	c.vcgPath = c.folder->name();
-	if (!scanObj(f, c.vcgPath, size, vb, fb, c.obj, e))
+	if (!scanObj(f, c.vcgPath, vb, fb, c.obj, e))
 		return false;
 	c.facts.vertices = double(c.obj.vertices);
 	c.facts.faces = double(c.obj.faux.size());
@@ -204,7 +204,7 @@ bool checkFile(const std::string &path, double vb, double fb, CheckedFile &c, Re
 		return corrupt(e, "binary data (NUL bytes) in " + withArticle(named) + " text file");
 	if (named == Format::Off)
 		return scanOff(file.f, size, vb, fb, e, c.facts);
-	return checkObjFile(path, file.f, size, vb, fb, c, e);
+	return checkObjFile(path, file.f, vb, fb, c, e);
 }
 
 } // namespace detail

@@ -114,11 +114,10 @@ bool checkMemory(double need, ReadError &e)
 	                bytesText(avail) + " is available");
 }
 
-bool lyingCounts(ReadError &e, unsigned long long nv, unsigned long long nf, const char *fw,
-                 uint64_t size)
+bool lyingCounts(ReadError &e, unsigned long long nv, unsigned long long nf, uint64_t size)
 {
 	return corrupt(e, "the header announces " + std::to_string(nv) + " vertices and " +
-	                      std::to_string(nf) + " " + fw + " but the file has only " +
+	                      std::to_string(nf) + " faces but the file has only " +
 	                      std::to_string(size) + " bytes");
 }
 

@@ -24,9 +24,8 @@ const char *formatName(Format f);
 std::string withArticle(Format f);
 /// A value read as a double (any size, NaN included) for a message.
 std::string numD(double v);
-/// Corrupt: counts that the file's `size` bytes cannot hold ("faces" or another word `fw`).
-bool lyingCounts(ReadError &e, unsigned long long nv, unsigned long long nf, const char *fw,
-                 uint64_t size);
+/// Corrupt: counts of vertices and faces that the file's `size` bytes cannot hold.
+bool lyingCounts(ReadError &e, unsigned long long nv, unsigned long long nf, uint64_t size);
 
 // ---- words of a text file ----------------------------------------------------------------------
 
@@ -151,8 +150,8 @@ bool scanOff(FILE *f, uint64_t size, double vertexBytes, double faceBytes, ReadE
              FileFacts &facts);
 /// Checks an OBJ file as VCG's ImporterOBJ will read it and collects its triangles
 /// (read_obj.cpp).
-bool scanObj(FILE *f, const std::string &path, uint64_t size, double vertexBytes, double faceBytes,
-             ObjScan &out, ReadError &e);
+bool scanObj(FILE *f, const std::string &path, double vertexBytes, double faceBytes, ObjScan &out,
+             ReadError &e);
 /// Checks a PLY file before VCG's ImporterPLY reads it (read_ply.cpp); a file of the fast path's
 /// layout is checked by readSimplePly instead (simple->ok: readChecked reads it), if `simple` is
 /// given.

@@ -273,8 +273,8 @@ bool checkObjCounts(const std::string &path, const ObjCounts &n, ObjScan &out, R
 
 } // namespace
 
-bool scanObj(FILE *f, const std::string &path, uint64_t size, double vertexBytes, double faceBytes,
-             ObjScan &out, ReadError &e)
+bool scanObj(FILE *f, const std::string &path, double vertexBytes, double faceBytes, ObjScan &out,
+             ReadError &e)
 {
 	LineReader in(f);
 	std::string joined;
@@ -307,7 +307,6 @@ bool scanObj(FILE *f, const std::string &path, uint64_t size, double vertexBytes
 	}
 	if (!checkObjCounts(path, n, out, e))
 		return false;
-	(void)size;
 	return checkMemory(double(out.vertices) * vertexBytes + double(out.faux.size()) * faceBytes, e);
 }
 

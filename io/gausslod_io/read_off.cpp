@@ -113,7 +113,7 @@ bool readOffHeader(OffCursor &cur, uint64_t size, double vertexBytes, double fac
 		return corrupt(e, "bad OFF counts " + quote(w[0].b, w[0].e) + " " + quote(w[1].b, w[1].e));
 	// a vertex takes at least "0 0 0\n", a face "3 0 1 2\n"
 	if (6.0 * double(h.nv) + 8.0 * double(h.nf) > double(size) + 1)
-		return lyingCounts(e, (unsigned long long)h.nv, (unsigned long long)h.nf, "faces", size);
+		return lyingCounts(e, (unsigned long long)h.nv, (unsigned long long)h.nf, size);
 	return checkMemory(double(h.nv) * vertexBytes + double(h.nf) * faceBytes, e);
 }
 

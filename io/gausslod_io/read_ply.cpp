@@ -205,7 +205,7 @@ bool checkPlyElements(const vcg::ply::PlyFile &pf, const PlyHeader &h, uint64_t 
 	}
 	const double body = double(size) - double(h.dataOffset);
 	if (minBytes > body + (ascii ? 1 : 0))
-		return lyingCounts(e, (unsigned long long)nv, (unsigned long long)nf, "faces", size);
+		return lyingCounts(e, (unsigned long long)nv, (unsigned long long)nf, size);
 	facts.vertices = double(nv);
 	facts.faces = double(nf);
 	return checkMemory(double(nv) * (vertexBytes + sizeof(void *)) + double(nf) * faceBytes, e);

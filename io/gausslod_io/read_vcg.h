@@ -172,7 +172,7 @@ bool readVcgObj(MeshT &m, const CheckedFile &c, ReadError &e, ReadInfo *info, in
 	Alloc::DeletePerFaceAttribute(m, "materialIndex");
 	if (r != 0 && Obj::ErrorCritical(r))
 		return corrupt(e, std::string("OBJ: ") + Obj::ErrorMsg(r));
-	if (!c.obj.vertexColours) // (see checkFile: no vertex line has colours)
+	if (!c.obj.vertexColours) // (see checkObjFile: no vertex line has colours)
 		mask &= ~int(vcg::tri::io::Mask::IOM_VERTCOLOR);
 	rebuildObjFaces(m, c.obj, info);
 	return true;
@@ -181,7 +181,7 @@ bool readVcgObj(MeshT &m, const CheckedFile &c, ReadError &e, ReadInfo *info, in
 /// The body of a checked file into `m` (read by VCG's importer, or here: STL, the PLY fast path);
 /// `mask`: what was read.
 template <class MeshT>
-bool readBody(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info, int &mask, bool &fastPly)
+bool readBody(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info, int &mask)
 {
 	const std::string &path = c.vcgPath;
 	if (c.format == Format::Stl) {
@@ -191,7 +191,6 @@ bool readBody(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info, int &mask,
 	} else if (c.format == Format::Ply && c.ply.ok) {
 		if (!readSimplePlyMesh(m, c, e, mask))
 			return false;
-		fastPly = true;
 	} else if (c.format == Format::Ply) {
 		using Ply = vcg::tri::io::ImporterPLY<MeshT>;
 		const int r = Ply::Open(m, path.c_str(), mask);
@@ -255,8 +254,7 @@ bool readChecked(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info)
 {
 	m.Clear();
 	int mask = 0;
-	bool fastPly = false;
-	if (!readBody(m, c, e, info, mask, fastPly))
+	if (!readBody(m, c, e, info, mask))
 		return false;
 	c.folder.reset();
 	if (!facesInVertexArray(m, e))
@@ -265,7 +263,7 @@ bool readChecked(MeshT &m, CheckedFile &c, ReadError &e, ReadInfo *info)
 	if (info && c.format == Format::Obj)
 		addObjNotes(c.obj, info->notes);
 	if (info) {
-		info->fastPly = fastPly;
+		info->fastPly = c.format == Format::Ply && c.ply.ok; // (read by readSimplePlyMesh)
 		info->fileMask = c.facts.mask;
 		info->mask = mask;
 	}

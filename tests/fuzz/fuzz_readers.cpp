@@ -1,8 +1,8 @@
 // libFuzzer target for the file readers: the first byte picks the extension (ply, obj, off, stl),
 // the rest is written to a per-process temporary file that importMesh reads into the tool's mesh
 // type; a mesh that reads goes through flatten, whose indices must then lie in range. Any crash,
-// leak, hang or sanitizer report is a guard missing in gausslod_io/import_mesh.h. Seeds in
-// tests/fuzz/reader_seeds/, fixed crash inputs in tests/fuzz/reader_regressions/.
+// leak, hang or sanitizer report is a guard missing in gausslod_io (check_file.cpp, read_*.cpp).
+// Seeds in tests/fuzz/reader_seeds/, fixed crash inputs in tests/fuzz/reader_regressions/.
 #include "gausslod/vcg_adapter.h"
 #include "gausslod_io/import_mesh.h"
 #include "gausslod_io/io_mesh.h"
