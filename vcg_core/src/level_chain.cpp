@@ -114,6 +114,12 @@ struct LevelChain::Work {
 	size_t chainFaces = 0;       ///< the faces of the level delivered before this one
 	LevelMesh lm;
 	CollapseSource collapsed;
+	/// DESIGN 55 (faces mode, finest level): the collapse candidate made before the superface
+	/// search (`early`; reached the budget: `earlyGot`), its farthest input vertex and seconds
+	bool collapsedFirst = false, earlyGot = false;
+	CollapseSource early;
+	ReduceReport earlyReport;
+	double earlyFar = -1, earlySeconds = 0;
 	bool takeCollapsed = false;     ///< the level is `collapsed`
 	bool certifiedByTrials = false; ///< `collapsed` was certified by the error search
 	const LevelStats &best() const { return takeCollapsed ? collapsed.mesh.stats : lm.stats; }
@@ -203,7 +209,8 @@ void LevelChain::buildSuperfaces(Work &w)
 {
 	const int level = w.level;
 	LevelMesh &lm = w.lm;
-	const double partitionSeconds = since(w.tl) + (level == finest_ ? setup_ : 0.0);
+	const double partitionSeconds =
+	    since(w.tl) + (level == finest_ ? setup_ : 0.0) - w.earlySeconds;
 	// DESIGN 36: the finer level carried whole (ExactCarry::whole) and the same superfaces
 	// here, with limits no tighter: building would take every superface as it is, so the
 	// level is the finer level's mesh (one linear pass, not a build)
@@ -226,7 +233,9 @@ void LevelChain::buildSuperfaces(Work &w)
 	} else if (w.sameAsFiner) {
 		reuseFinerMesh(w);
 	} else if (byFaces_) {
-		buildToFaceTarget(topo_, params_, parts_, level, w.target, w.faceLimit, cost, lm, merged_);
+		const double beat = w.collapsedFirst && w.earlyGot ? w.earlyFar : -1.0;
+		buildToFaceTarget(topo_, params_, parts_, level, w.target, w.faceLimit, cost, beat,
+		                  in_.threads, lm, merged_);
 	} else {
 		buildLevelGeometry(topo_, params_, parts_, parts_[size_t(level)], lm, w.faceLimit, cost,
 		                   &finer_.carry, &nextCarry_);
@@ -343,6 +352,22 @@ bool LevelChain::completionLimits(const Work &w, ReduceLimits &rl) const
 	return reduce;
 }
 
+// DESIGN 55: in faces mode the finest level's collapse candidate is made first: the superface
+// search then knows how near the input a build must come to be chosen over it.
+void LevelChain::collapseFirst(Work &w)
+{
+	ReduceLimits rl;
+	if (!(byFaces_ && w.level == finest_ && w.superfaces) || !completionLimits(w, rl))
+		return;
+	const auto t0 = std::chrono::steady_clock::now();
+	needChain(w);
+	w.earlyGot = reduceLevel(topo_, mesh_, finer_.chain, rl, in_.threads, w.early, w.earlyReport);
+	w.earlyFar =
+	    farthestInputVertex(topo_, w.early.mesh, w.early.mesh.stats.distanceBound, in_.threads);
+	w.collapsedFirst = true;
+	w.earlySeconds = since(t0);
+}
+
 // DESIGN 51: levels by target, and the angle chain's real steps, by collapses with quadric
 // placement where the superfaces do not get there; taken by the mode's rule.
 void LevelChain::completeByCollapses(Work &w)
@@ -350,24 +375,34 @@ void LevelChain::completeByCollapses(Work &w)
 	ReduceLimits rl;
 	if (!completionLimits(w, rl))
 		return;
-	needChain(w);
 	const size_t threads = in_.threads;
 	ReduceReport rr;
 	CollapseSource reduced;
 	bool got;
-	if (byError_ && params_.certifyDistance) { // DESIGN 52: by the certified distance
-		got = reduceToCertifiedError(topo_, mesh_, *in_.input, finer_.chain, rl, threads,
-		                             inputTree_, reduced, rr);
-		w.certifiedByTrials = true;
+	double far = -1; // (faces mode: the candidate's farthest input vertex, once measured)
+	if (w.collapsedFirst) {
+		reduced = std::move(w.early);
+		rr = w.earlyReport;
+		got = w.earlyGot;
+		far = w.earlyFar;
 	} else {
-		got = reduceLevel(topo_, mesh_, finer_.chain, rl, threads, reduced, rr);
+		needChain(w);
+		if (byError_ && params_.certifyDistance) { // DESIGN 52: by the certified distance
+			got = reduceToCertifiedError(topo_, mesh_, *in_.input, finer_.chain, rl, threads,
+			                             inputTree_, reduced, rr);
+			w.certifiedByTrials = true;
+		} else {
+			got = reduceLevel(topo_, mesh_, finer_.chain, rl, threads, reduced, rr);
+		}
 	}
 	const LevelStats &rs = reduced.mesh.stats, &o = w.best();
 	bool take;
 	if (byFaces_) // (a budget first; within it, the level nearer the input)
 		take = o.faces > w.target
 		           ? rs.faces < o.faces
-		           : got && farthestInputVertex(topo_, reduced.mesh, rs.distanceBound, threads) <
+		           : got && (far >= 0 ? far
+		                              : farthestInputVertex(topo_, reduced.mesh, rs.distanceBound,
+		                                                    threads)) <
 		                        farthestInputVertex(topo_, w.bestMesh(), o.distanceBound, threads);
 	else if (byAngle_)
 		take = rs.faces < o.faces;
@@ -386,7 +421,7 @@ void LevelChain::completeByCollapses(Work &w)
 // The chosen candidate, with the level's stats.
 LevelMesh &LevelChain::chosen(Work &w)
 {
-	const double secondsCollapse = since(w.tc);
+	const double secondsCollapse = since(w.tc) + w.earlySeconds;
 	std::swap(finer_.carry, nextCarry_);
 	if (byFaces_) {
 		levelPart_ = std::move(parts_[size_t(w.level)]);
@@ -415,6 +450,7 @@ bool LevelChain::build(int level, const Report &report, LevelMesh *&out)
 	w.tolerance = byFaces_ ? 1.0 : levelTolerance(params_, level);
 	w.faceLimit = level < finest_ ? finer_.mesh.stats.faces : SIZE_MAX;
 	w.target = byFaces_ ? faceTarget(params_, level, in_.inputFaces) : 0;
+	collapseFirst(w);
 	buildSuperfaces(w);
 	// DESIGN 50 and 51: the level may also come from the level delivered before it (the
 	// chain; before the finest level, the input) by edge collapses

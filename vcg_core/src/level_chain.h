@@ -34,10 +34,12 @@ double stepError(const Params &p, int level);
 
 /// Levels by face count: builds `level` with the distance tolerance that gives it the most faces
 /// within `target`, into lm, and its partition into parts[level] (`merged`: the merged
-/// partition before the geometry's fallbacks).
+/// partition before the geometry's fallbacks). `beat` >= 0: the farthest input vertex of the
+/// level's collapse candidate (DESIGN 55): the search stops where no build within the budget
+/// would come nearer (`lm` is then not placed).
 void buildToFaceTarget(const Topology &topo, const Params &params, std::vector<Partition> &parts,
                        int level, size_t target, size_t faceLimit, const SplitCost *cost,
-                       LevelMesh &lm, Partition &merged);
+                       double beat, size_t threads, LevelMesh &lm, Partition &merged);
 
 /// DESIGN 52: the level's two-sided Hausdorff distance to `input`, certified; the input's tree is
 /// built for the first level that needs it.
@@ -103,6 +105,7 @@ private:
 	void reuseFinerMesh(Work &w);
 	void collapseToCount(Work &w);
 	void keepDelivered(Work &w);
+	void collapseFirst(Work &w);
 	void completeByCollapses(Work &w);
 	bool completionLimits(const Work &w, ReduceLimits &rl) const;
 	void needChain(Work &w);

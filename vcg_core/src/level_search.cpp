@@ -143,11 +143,13 @@ constexpr int kSearchSteps = 10;
 // parts[level]: bisection of the tolerance's logarithm (faces fall as the tolerance grows, though
 // not strictly: see kSearchWidth). Every trial starts from the same merged partition (the
 // geometry's fallbacks split it). If even the top tolerance gives more faces than the target,
-// that build is kept (the target is not reached). Deterministic: the trials and the choice
-// depend on face counts only.
+// that build is kept (the target is not reached). With `beat` >= 0 (mesh units: how near the
+// input the level's collapse candidate is) the search ends as soon as no build could be chosen
+// over it (`lm` is then the top build, not placed: it will not be chosen). Deterministic: the
+// trials and the choice depend on face counts and distances only.
 void buildToFaceTarget(const Topology &topo, const Params &params, std::vector<Partition> &parts,
                        int level, size_t target, size_t faceLimit, const SplitCost *cost,
-                       LevelMesh &lm, Partition &merged)
+                       double beat, size_t threads, LevelMesh &lm, Partition &merged)
 {
 	Params trial = params; // (levelFaces kept: levelLimits then knows these are searches, whose
 	                       // distance bound is reported, not a limit as in levels by error)
@@ -181,13 +183,25 @@ void buildToFaceTarget(const Topology &topo, const Params &params, std::vector<P
 	};
 	double hi = kSearchLogHi, lo = kSearchLogLo; // faces(hi) <= target < faces(lo)
 	const bool reached = run(hi) <= target;
-	for (int step = 0; reached && step < kSearchSteps && target - bestFaces > target / 100 &&
-	                   hi - lo > kSearchWidth;
+	// (DESIGN 55: a build must come nearer the input than `beat` to be chosen; one within the
+	// budget at the tolerance `beat` is, near enough (a build's input vertices are within its
+	// tolerance); if that tolerance is over the budget, the searched build would not be)
+	bool outOfRace = false;
+	if (reached && beat >= 0 &&
+	    farthestInputVertex(topo, lm, lm.stats.distanceBound, threads) > beat) {
+		const double capLog = beat > 0 ? std::log10(beat / topo.diagonal) : -HUGE_VAL;
+		if (capLog > lo && capLog < hi && run(capLog) <= target)
+			hi = capLog;
+		else
+			outOfRace = true;
+	}
+	for (int step = 0; !outOfRace && reached && step < kSearchSteps &&
+	                   target - bestFaces > target / 100 && hi - lo > kSearchWidth;
 	     ++step) {
 		const double mid = 0.5 * (lo + hi);
 		(run(mid) <= target ? hi : lo) = mid;
 	}
-	if (params.placeVertices) { // the chosen build again, placed (the same build otherwise)
+	if (params.placeVertices && !outOfRace) { // the chosen build again, placed (the same build)
 		trial.placeVertices = true;
 		trial.levelDistances[size_t(level)] = bestTol;
 		p = start;
