@@ -257,6 +257,29 @@ TEST(CertifiedHausdorff, soups_folds_and_degenerate_triangles_still_bound_it)
 	}
 }
 
+TEST(CertifiedHausdorff, coinciding_surfaces_are_certified_at_the_floor_at_once)
+{
+	// a planar level (two triangles) over its fine input: every bound is a rounding error above
+	// 0, never within a factor of the lower bound 0; with a floor the search ends at once
+	const Tris fine = grid(40, [](double, double) { return 0.0; });
+	const Tris coarse = grid(1, [](double, double) { return 0.0; });
+	const TriangleTree tf(fine.P.data(), fine.T.data(), fine.n()),
+	    tc(coarse.P.data(), coarse.T.data(), coarse.n());
+	const size_t budget = 64 * (fine.n() + coarse.n());
+	const HausdorffBounds none = hausdorff(tc, tf, 0.05, budget, 2);
+	EXPECT_FALSE(none.converged); // (the budget spent: what the floor is for)
+	EXPECT_GE(none.pieces, budget);
+	const double floor = 1e-6 * std::sqrt(2.0);
+	const HausdorffBounds h = hausdorff(tc, tf, 0.05, budget, 2, floor);
+	EXPECT_TRUE(h.converged);
+	EXPECT_LE(h.upper, 1.05 * floor * (1 + 1e-6));
+	EXPECT_LT(h.pieces, budget / 8);
+	// (a floor does not hide a distance above it)
+	const Tris lifted = grid(40, [](double x, double) { return 1e-3 * x; });
+	const TriangleTree tl(lifted.P.data(), lifted.T.data(), lifted.n());
+	expectBracketed(hausdorff(tc, tl, 0.05, 1u << 22, 2, floor), 1e-3);
+}
+
 TEST(CertifiedHausdorff, nothing_to_measure_against_is_infinite)
 {
 	const Tris a = grid(2, [](double, double) { return 0.0; });

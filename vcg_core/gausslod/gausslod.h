@@ -157,7 +157,8 @@ struct Params {
 	/// by its cells. false = the paper's levels.
 	bool completeChain = true;
 	/// Beyond the paper (docs/DESIGN.md, 52): after each level is made, its two-sided Hausdorff
-	/// distance to the input is certified within 5 % (LevelStats::hausdorff). A measurement:
+	/// distance to the input is certified within 5 %, or to at most 1e-6 of the diagonal where
+	/// it is smaller (LevelStats::hausdorff). A measurement:
 	/// it changes no level. false = not computed (-1).
 	bool certifyDistance = true;
 	/// Input repair, as MeshLab does to STL files on import: vertices at exactly the same position
@@ -288,8 +289,9 @@ struct LevelStats {
 	/// With Params::certifyDistance: the two-sided Hausdorff distance between the level and the
 	/// input (every valid input triangle, as given), certified by branch and bound after the
 	/// level is made (DESIGN 52): `hausdorff` is an upper bound (rounded up) and
-	/// `hausdorffLower` a distance measured at a point, hausdorff <= 1.05 x hausdorffLower
-	/// unless `hausdorffConverged` is false (the work budget ran out; still an upper bound).
+	/// `hausdorffLower` a distance measured at a point, hausdorff <= 1.05 x max(hausdorffLower,
+	/// 1e-6 x the diagonal) unless `hausdorffConverged` is false (the work budget ran out; still
+	/// an upper bound).
 	/// Mesh units; -1 = not computed.
 	double hausdorff = -1;
 	double hausdorffLower = -1;

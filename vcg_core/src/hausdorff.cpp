@@ -222,10 +222,11 @@ HausdorffBounds directedHausdorff(const TriangleTree &from, const TriangleTree &
 }
 
 HausdorffBounds hausdorff(const TriangleTree &a, const TriangleTree &b, double eps,
-                          size_t maxPieces, size_t threads)
+                          size_t maxPieces, size_t threads, double floor)
 {
-	const HausdorffBounds ab = directedHausdorff(a, b, eps, maxPieces, threads, 0.0);
-	const HausdorffBounds ba = directedHausdorff(b, a, eps, maxPieces, threads, ab.lower);
+	const HausdorffBounds ab = directedHausdorff(a, b, eps, maxPieces, threads, floor);
+	const HausdorffBounds ba =
+	    directedHausdorff(b, a, eps, maxPieces, threads, std::max(floor, ab.lower));
 	HausdorffBounds out;
 	out.lower = std::max(ab.lower, ba.lower);
 	out.upper = std::max(ab.upper, ba.upper);

@@ -83,7 +83,7 @@ struct HausdorffBounds {
 	size_t pieces = 0;     ///< sub-triangles evaluated
 	size_t byCover = 0;    ///< pieces bounded by the cover
 	size_t bySplit = 0;    ///< pieces bounded by the split
-	bool converged = true; ///< upper <= (1 + eps) x lower (else the piece budget ran out)
+	bool converged = true; ///< upper <= (1 + eps) x max(lower, floor) (else out of budget)
 };
 
 /// The distance from the triangles of `from` to those of `to`, one way: max over points of
@@ -93,9 +93,12 @@ struct HausdorffBounds {
 HausdorffBounds directedHausdorff(const TriangleTree &from, const TriangleTree &to, double eps,
                                   size_t maxPieces, size_t threads, double known);
 
-/// Both ways: the largest lower and upper bounds of the two directions.
+/// Both ways: the largest lower and upper bounds of the two directions. Parts within (1 + eps) x
+/// `floor` (a distance) are not refined: the bounds are within the factor of max(lower, floor)
+/// (without a floor, two surfaces that coincide, as a planar level and its input do, would be
+/// refined until maxPieces: no bound is within a factor of 0).
 HausdorffBounds hausdorff(const TriangleTree &a, const TriangleTree &b, double eps,
-                          size_t maxPieces, size_t threads);
+                          size_t maxPieces, size_t threads, double floor = 0);
 
 } // namespace detail
 } // namespace gausslod

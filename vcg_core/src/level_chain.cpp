@@ -466,7 +466,7 @@ bool LevelChain::build(int level, const Report &report, LevelMesh *&out)
 		if (!report(0.05 + 0.95 * (done + 0.5) / params_.maxLevel,
 		            "certifying the level's distance"))
 			return false;
-		certify(*in_.input, *out, inputTree_, in_.threads);
+		certify(*in_.input, *out, inputTree_, topo_.diagonal, in_.threads);
 	}
 	setTargetStats(params_, level, w.target, topo_.diagonal, *out);
 	return true;

@@ -44,7 +44,7 @@ void buildToFaceTarget(const Topology &topo, const Params &params, std::vector<P
 /// DESIGN 52: the level's two-sided Hausdorff distance to `input`, certified; the input's tree is
 /// built for the first level that needs it.
 void certify(const MeshView &input, LevelMesh &level, std::unique_ptr<TriangleTree> &inputTree,
-             size_t threads);
+             double diagonal, size_t threads);
 
 /// DESIGN 52, levels by error: the fewest faces whose certified distance is within `rl.bound`,
 /// by a search of the collapses' bound; `out` is certified. False if not even the proven build

@@ -25,20 +25,25 @@ constexpr double kCertifyEps = 0.05;
 constexpr double kErrorReach = 8;
 constexpr int kErrorTrials = 4;
 constexpr size_t kCertifyPieces = 64; // per triangle of both sides: the refinement's budget
+// Distances under this share of the diagonal are not refined (levels are written in floats,
+// whose rounding is 6e-8 of a coordinate): an exact planar level is certified at most 1.05e-6 x
+// the diagonal from its input at once, instead of being cut up to the budget (DESIGN 52).
+constexpr double kCertifyFloor = 1e-6;
 
 } // namespace
 
 void certify(const MeshView &input, LevelMesh &level, std::unique_ptr<TriangleTree> &inputTree,
-             size_t threads)
+             double diagonal, size_t threads)
 {
 	const auto t0 = std::chrono::steady_clock::now();
 	if (!inputTree)
 		inputTree.reset(new TriangleTree(input.positions, input.triangles, input.faceCount));
 	const TriangleTree lt(level.positions.data(), level.triangles.data(),
 	                      level.triangles.size() / 3);
-	const HausdorffBounds h = hausdorff(
-	    lt, *inputTree, kCertifyEps,
-	    kCertifyPieces * (lt.triangles().size() + inputTree->triangles().size()), threads);
+	const HausdorffBounds h =
+	    hausdorff(lt, *inputTree, kCertifyEps,
+	              kCertifyPieces * (lt.triangles().size() + inputTree->triangles().size()), threads,
+	              kCertifyFloor * diagonal);
 	LevelStats &st = level.stats;
 	st.hausdorff = h.upper;
 	st.hausdorffLower = h.lower;
@@ -59,7 +64,7 @@ bool reduceToCertifiedError(const Topology &topo, const MeshView &mesh, const Me
 		ReduceLimits t = rl;
 		t.bound = asked * k;
 		const bool g = reduceLevel(topo, mesh, chain, t, threads, o, r);
-		certify(input, o.mesh, inputTree, threads);
+		certify(input, o.mesh, inputTree, topo.diagonal, threads);
 		return g && (k <= 1 || o.mesh.stats.hausdorff <= asked);
 	};
 	// (first the proven build at 1 x; where its certified distance leaves room (under 0.9 x the
