@@ -24,6 +24,16 @@ configure_build() { # DIR [cmake args...]
   cmake --build "$dir" -j"$jobs"
 }
 
+# seed_costs DIR FILE: CTest starts the longest tests first when it knows their times (DIR's
+# Testing/Temporary/CTestCostData.txt, rewritten after every run); a fresh build tree starts
+# from the times of a recent run, tests/ctest_costs/FILE, so that no long test starts last while
+# the other jobs sit idle. Only the order changes.
+seed_costs() {
+  local dir=$1 file=tests/ctest_costs/$2
+  mkdir -p "$dir/Testing/Temporary"
+  [ -f "$dir/Testing/Temporary/CTestCostData.txt" ] || cp "$file" "$dir/Testing/Temporary/CTestCostData.txt"
+}
+
 # fuzz NAME TARGET REGRESSIONS SECONDS [SEEDS]: the known crash inputs of tests/fuzz/REGRESSIONS
 # first (each must now pass), then a bounded random run (SECONDS) from build-fuzz/NAME-corpus.
 fuzz() {
@@ -53,9 +63,11 @@ case "${1:-}" in
     ;;
   test)
     configure_build build
+    seed_costs build release.txt
     ctest --test-dir build --output-on-failure -j"$jobs"
     echo "== core and its tests under AddressSanitizer + UndefinedBehaviorSanitizer"
     configure_build build-asan -DGAUSSLOD_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
+    seed_costs build-asan asan.txt
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
       ctest --test-dir build-asan --output-on-failure -j"$jobs"
     CXX=clang++ configure_build build-fuzz -DGAUSSLOD_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
