@@ -236,6 +236,10 @@ void LevelChain::buildSuperfaces(Work &w)
 		const double beat = w.collapsedFirst && w.earlyGot ? w.earlyFar : -1.0;
 		buildToFaceTarget(topo_, params_, parts_, level, w.target, w.faceLimit, cost, beat,
 		                  in_.threads, lm, merged_);
+		if (lm.stats.faces == SIZE_MAX) { // (no build: DESIGN 55)
+			lm.stats.level = level;
+			lm.stats.boundDeg = levelBoundDeg(level);
+		}
 	} else {
 		buildLevelGeometry(topo_, params_, parts_, parts_[size_t(level)], lm, w.faceLimit, cost,
 		                   &finer_.carry, &nextCarry_);
@@ -257,7 +261,8 @@ void LevelChain::buildSuperfaces(Work &w)
 	lm.stats.tolerance = chosen;
 	lm.stats.trials = trials;
 	// (a level that is its finer level's mesh took it: no superface build)
-	w.superfaceBuilt = w.superfaces && !(w.sameAsFiner || lm.stats.reusedFiner);
+	w.superfaceBuilt =
+	    w.superfaces && !(w.sameAsFiner || lm.stats.reusedFiner || lm.stats.faces == SIZE_MAX);
 }
 
 // Makes finer_.chain the level delivered before this one (before the finest level, the input).

@@ -149,8 +149,8 @@ constexpr int kSearchSteps = 10;
 // not strictly: see kSearchWidth). Every trial starts from the same merged partition (the
 // geometry's fallbacks split it). If even the top tolerance gives more faces than the target,
 // that build is kept (the target is not reached). With `beat` >= 0 (mesh units: how near the
-// input the level's collapse candidate is) the search ends as soon as no build could be chosen
-// over it (`lm` is then the top build, not placed: it will not be chosen). Deterministic: the
+// input the level's collapse candidate is) the search ends where no build could be chosen over
+// the collapses (`lm` is then not placed, or not built: faces SIZE_MAX). Deterministic: the
 // trials and the choice depend on face counts and distances only.
 void buildToFaceTarget(const Topology &topo, const Params &params, std::vector<Partition> &parts,
                        int level, size_t target, size_t faceLimit, const SplitCost *cost,
@@ -187,26 +187,33 @@ void buildToFaceTarget(const Topology &topo, const Params &params, std::vector<P
 		return faces;
 	};
 	double hi = kSearchLogHi, lo = kSearchLogLo; // faces(hi) <= target < faces(lo)
-	const bool reached = run(hi) <= target;
-	// (DESIGN 55: a build must come nearer the input than `beat` to be chosen; one within the
-	// budget at the tolerance `beat` is, near enough (a build's input vertices are within its
-	// tolerance); if that tolerance is over the budget, the searched build would not be)
-	bool outOfRace = false;
-	if (reached && beat >= 0 &&
-	    farthestInputVertex(topo, lm, lm.stats.distanceBound, threads) > beat) {
-		const double capLog = beat > 0 ? std::log10(beat / topo.diagonal) : -HUGE_VAL;
-		if (capLog > lo && capLog < hi && run(capLog) <= target)
-			hi = capLog;
-		else
-			outOfRace = true;
+	// DESIGN 55: with `beat`, a build is chosen only if it comes nearer the input, and a build's
+	// input vertices are within its tolerance. None is made where the collapses are exact; the
+	// top build over the budget is not placed; where it fits but is farther, one build at the
+	// tolerance `beat` decides: over the budget, no build within it would be chosen
+	bool reached = false, outOfRace = beat == 0;
+	if (!outOfRace) {
+		reached = run(hi) <= target;
+		outOfRace = beat > 0 && !reached;
 	}
-	for (int step = 0; !outOfRace && reached && step < kSearchSteps &&
-	                   target - bestFaces > target / 100 && hi - lo > kSearchWidth;
+	if (reached && beat > 0 &&
+	    farthestInputVertex(topo, lm, lm.stats.distanceBound, threads) > beat) {
+		const double capLog = std::log10(beat / topo.diagonal);
+		reached = capLog > lo && capLog < hi && run(capLog) <= target;
+		if (reached)
+			hi = capLog;
+		outOfRace = !reached;
+	}
+	for (int step = 0; reached && step < kSearchSteps && target - bestFaces > target / 100 &&
+	                   hi - lo > kSearchWidth;
 	     ++step) {
 		const double mid = 0.5 * (lo + hi);
 		(run(mid) <= target ? hi : lo) = mid;
 	}
-	if (params.placeVertices && !outOfRace) { // the chosen build again, placed (the same build)
+	if (trials == 0) { // (no build: the collapses make the level)
+		lm = LevelMesh();
+		lm.stats.faces = SIZE_MAX;
+	} else if (params.placeVertices && !outOfRace) { // the chosen build again, placed
 		trial.placeVertices = true;
 		trial.levelDistances[size_t(level)] = bestTol;
 		p = start;
