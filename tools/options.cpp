@@ -193,10 +193,11 @@ const char *optionHelp()
 				    "                         for the most faces within it; error: one level per\n"
 				    "                         tolerance (% of bbox diagonal). The number of "
 				    "targets\n"
-				    "                         (up to 8) sets the number of levels; each level "
-				    "keeps\n"
-				    "                         its normal bound, so a budget may be out of reach\n"
-				    "                         (the table's reached column says so)\n";
+				    "                         (up to 8) sets the number of levels. Where the\n"
+				    "                         superfaces cannot get to a budget, proven edge\n"
+				    "                         collapses make the level; only a true minimum (the\n"
+				    "                         boundaries and delimiters kept) stops one (the\n"
+				    "                         table's reached column says so)\n";
 		}
 		h += "  --colour-superfaces BOOL  colour faces by superface where the input has no colour\n"
 		     "                         of its own (no vertex or face colour, no texture\n"

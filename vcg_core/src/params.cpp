@@ -49,8 +49,10 @@ std::vector<Entry> levelEntries()
 	      "bounding-box diagonal (error:0.01%,0.05%,0.2%): one level per tolerance, in place of "
 	      "'Distance tolerance' and 'Distance growth'. The number of targets (up to 8) "
 	      "replaces 'Number of levels'; the finest level gets the most faces or the smallest "
-	      "error. Every level keeps its normal bound, so a budget may be out of reach: the "
-	      "log then says 'not reached'.",
+	      "error. Where the superfaces cannot get to a budget or an error, the level is made "
+	      "by proven edge collapses of the level before it; only a true minimum (the "
+	      "boundaries, seams and materials kept) stops a budget: the log then says 'not "
+	      "reached'.",
 	      0, 0, 0, false, true}},
 	    {{"outputLevels", K::LevelList, "Output levels",
 	      "\"all\" or a comma list of levels to write, 0 = coarsest",
