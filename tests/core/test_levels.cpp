@@ -232,6 +232,31 @@ TEST(Levels, levels_by_target_keep_every_invariant_and_do_not_depend_on_threads)
 	}
 }
 
+// DESIGN 55: with the collapses known first, one budget on a curved model stops the tolerance
+// search after two builds (camel: ten before), and where the collapses are exact (a planar cube)
+// no superface build is made at all.
+TEST(Levels, one_budget_stops_the_search_where_the_collapses_are_nearer)
+{
+	Params p;
+	std::string error;
+	ASSERT_TRUE(parseLevelsBy("faces:50%", p, error)) << error;
+	p.certifyDistance = false;
+	const FlatMesh camel = loadOff("camel.off");
+	const Result r = buildLevels(camel.view(), p);
+	ASSERT_TRUE(r.ok) << r.error;
+	ASSERT_EQ(r.levels.size(), 1u);
+	const LevelStats &s = r.levels[0].stats;
+	EXPECT_TRUE(s.reduced);
+	EXPECT_LE(s.faces, camel.triangles.size() / 6);
+	EXPECT_LE(s.trials, 2);
+	const FlatMesh cube = gridCube(20);
+	const Result c = buildLevels(cube.view(), p);
+	ASSERT_TRUE(c.ok) << c.error;
+	ASSERT_EQ(c.levels.size(), 1u);
+	EXPECT_EQ(c.levels[0].stats.faces, 12u);
+	EXPECT_EQ(c.levels[0].stats.trials, 0);
+}
+
 TEST(Levels, the_output_does_not_depend_on_the_number_of_threads)
 {
 	for (const char *name : {"fandisk.off", "bunny00.off"}) {
