@@ -366,7 +366,9 @@ void LevelChain::collapseFirst(Work &w)
 		return;
 	const auto t0 = std::chrono::steady_clock::now();
 	needChain(w);
-	w.earlyGot = reduceLevel(topo_, mesh_, finer_.chain, rl, in_.threads, w.early, w.earlyReport);
+	// (the input as a source serves this level only: the reduction takes it)
+	w.earlyGot =
+	    reduceLevel(topo_, mesh_, std::move(finer_.chain), rl, in_.threads, w.early, w.earlyReport);
 	w.earlyFar =
 	    farthestInputVertex(topo_, w.early.mesh, w.early.mesh.stats.distanceBound, in_.threads);
 	w.collapsedFirst = true;
@@ -396,8 +398,8 @@ void LevelChain::completeByCollapses(Work &w)
 			got = reduceToCertifiedError(topo_, mesh_, *in_.input, finer_.chain, rl, threads,
 			                             inputTree_, reduced, rr);
 			w.certifiedByTrials = true;
-		} else {
-			got = reduceLevel(topo_, mesh_, finer_.chain, rl, threads, reduced, rr);
+		} else { // (the chain is not looked at again before the next level replaces it)
+			got = reduceLevel(topo_, mesh_, std::move(finer_.chain), rl, threads, reduced, rr);
 		}
 	}
 	const LevelStats &rs = reduced.mesh.stats, &o = w.best();

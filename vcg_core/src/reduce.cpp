@@ -193,6 +193,18 @@ double Reducer::gapLowerBound(int32_t a, int32_t b, int op, const Vec3 &pos) con
 	return g;
 }
 
+void Reducer::queue(const Entry &e)
+{
+	// (a full queue first drops its stale entries, about half of it, and grows by a quarter only
+	// if it is still nearly full: grown by doubling, it was a third of a collapse level's peak)
+	if (heap_.full() && !heap_.empty()) {
+		heap_.drop([this](const Entry &x) { return stale(x); });
+		if (heap_.size() > heap_.capacity() / 8 * 7)
+			heap_.reserve(heap_.capacity() + heap_.capacity() / 4);
+	}
+	heap_.push(e);
+}
+
 void Reducer::pushEdges(int32_t v)
 {
 	scratch_.clear();
@@ -206,46 +218,66 @@ void Reducer::pushEdges(int32_t v)
 	for (int32_t w : scratch_) {
 		Entry e;
 		if (bestOp(std::min(v, w), std::max(v, w), 0, e))
-			heap_.push(e);
+			queue(e);
 	}
 }
 
 void Reducer::seedQueue()
 {
-	// every edge's best operation (each vertex's edges to higher vertices, in parallel)
+	// every edge's best operation (each vertex's edges to higher vertices, in parallel), into one
+	// array sized by a first count: per-chunk arrays and their concatenation were two copies of
+	// the queue, a collapse level's peak
 	const size_t nV = P_.size();
 	const size_t chunk = 4096, nChunks = (nV + chunk - 1) / chunk;
-	std::vector<std::vector<Entry>> byChunk(nChunks);
+	auto higher = [&](size_t v, std::vector<int32_t> &nb) {
+		nb.clear();
+		for (int32_t c = head_[v]; c >= 0; c = next_[size_t(c)])
+			if (alive_[size_t(heFace(c))])
+				for (const int32_t w : {T_[size_t(heNext(c))], T_[size_t(hePrev(c))]})
+					if (w > int32_t(v))
+						nb.push_back(w);
+		std::sort(nb.begin(), nb.end());
+		nb.erase(std::unique(nb.begin(), nb.end()), nb.end());
+	};
+	std::vector<size_t> start(nChunks + 1, 0), got(nChunks, 0);
 	parallelRanges(nChunks, threads_, [&](size_t cb, size_t ce, size_t) {
 		std::vector<int32_t> nb;
 		for (size_t k = cb; k < ce; ++k)
 			for (size_t v = k * chunk; v < std::min(nV, (k + 1) * chunk); ++v) {
-				nb.clear();
-				for (int32_t c = head_[v]; c >= 0; c = next_[size_t(c)])
-					if (alive_[size_t(heFace(c))]) {
-						nb.push_back(T_[size_t(heNext(c))]);
-						nb.push_back(T_[size_t(hePrev(c))]);
-					}
-				std::sort(nb.begin(), nb.end());
-				nb.erase(std::unique(nb.begin(), nb.end()), nb.end());
+				higher(v, nb);
+				start[k + 1] += nb.size();
+			}
+	});
+	for (size_t k = 0; k < nChunks; ++k)
+		start[k + 1] += start[k];
+	std::vector<Entry> all; // (room for the pushes of the first collapses: see queue())
+	all.reserve(start[nChunks] + start[nChunks] / 4 + 64);
+	all.resize(start[nChunks]);
+	parallelRanges(nChunks, threads_, [&](size_t cb, size_t ce, size_t) {
+		std::vector<int32_t> nb;
+		for (size_t k = cb; k < ce; ++k)
+			for (size_t v = k * chunk; v < std::min(nV, (k + 1) * chunk); ++v) {
+				higher(v, nb);
 				for (int32_t w : nb) {
 					Entry e;
-					if (w > int32_t(v) && bestOp(int32_t(v), w, 0, e))
-						byChunk[k].push_back(e);
+					if (bestOp(int32_t(v), w, 0, e))
+						all[start[k] + got[k]++] = e;
 				}
 			}
 	});
-	std::vector<Entry> all;
-	for (auto &b : byChunk)
-		all.insert(all.end(), b.begin(), b.end());
-	byChunk.clear();
+	size_t n = 0; // (the chunks' entries closed up, in order)
+	for (size_t k = 0; k < nChunks; ++k) {
+		std::copy(all.begin() + ptrdiff_t(start[k]), all.begin() + ptrdiff_t(start[k] + got[k]),
+		          all.begin() + ptrdiff_t(n));
+		n += got[k];
+	}
+	all.resize(n);
 	heap_.assign(std::move(all));
 }
 
 void Reducer::tryCollapse(Entry top, Plan &pl)
 {
-	if (kind_[size_t(top.a)] == kGone || kind_[size_t(top.b)] == kGone ||
-	    stamp_[size_t(top.a)] != top.sa || stamp_[size_t(top.b)] != top.sb)
+	if (stale(top))
 		return;
 	Vec3 pos;
 	const double q = opCost(top.a, top.b, top.op, pos);
@@ -265,14 +297,14 @@ void Reducer::tryCollapse(Entry top, Plan &pl)
 		if (!heap_.empty() && exact > heap_.top().cost * (1 + 1e-9)) {
 			top.cost = exact;
 			top.tried |= kExactKey;
-			heap_.push(top);
+			queue(top);
 			return;
 		}
 	}
 	if (!planned || !check(pl)) {
 		Entry e;
 		if (bestOp(top.a, top.b, uint8_t((top.tried & ~kExactKey) | 1u << top.op), e))
-			heap_.push(e);
+			queue(e);
 		else
 			blocked_[size_t(top.a)] = blocked_[size_t(top.b)] = 1;
 		return;
@@ -288,7 +320,7 @@ void Reducer::tryCollapse(Entry top, Plan &pl)
 	if (now > top.cost * (1 + 1e-9) && !heap_.empty() && now > heap_.top().cost * (1 + 1e-9)) {
 		top.cost = now;
 		top.tried |= kExactKey;
-		heap_.push(top);
+		queue(top);
 		return;
 	}
 	if (checkFacing_ && !facesInput(pl)) {
@@ -325,6 +357,9 @@ bool Reducer::run(CollapseSource &out, ReduceReport &report)
 			checkFacing_ = false;
 		}
 	}
+	heap_.release(); // (the loop's own arrays: not needed to write the level)
+	std::vector<uint32_t>().swap(stamp_);
+	std::vector<uint8_t>().swap(blocked_);
 	write(out, report);
 	return !more() || !budget;
 }
@@ -336,6 +371,15 @@ bool reduceLevel(const Topology &t, const MeshView &mesh, const CollapseSource &
 {
 	collapse::Reducer r(t, mesh, src, lim, threads);
 	return r.run(out, report);
+}
+
+bool reduceLevel(const Topology &t, const MeshView &mesh, CollapseSource &&src,
+                 const ReduceLimits &lim, size_t threads, CollapseSource &out, ReduceReport &report)
+{
+	collapse::Reducer r(t, mesh, src, lim, threads, &src);
+	const bool got = r.run(out, report);
+	src.clear();
+	return got;
 }
 
 } // namespace detail

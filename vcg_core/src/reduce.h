@@ -53,6 +53,10 @@ void inputSource(const Topology &t, const MeshView &mesh, CollapseSource &out);
 bool reduceLevel(const Topology &t, const MeshView &mesh, const CollapseSource &src,
                  const ReduceLimits &lim, size_t threads, CollapseSource &out,
                  ReduceReport &report);
+/// The same, taking `src` (left empty): its arrays are not held twice at the reduction's peak.
+bool reduceLevel(const Topology &t, const MeshView &mesh, CollapseSource &&src,
+                 const ReduceLimits &lim, size_t threads, CollapseSource &out,
+                 ReduceReport &report);
 
 /// A level's topology, for what a face budget cannot go under (level_topology.cpp).
 struct LevelTopology {

@@ -73,6 +73,22 @@ public:
 		e_.push_back(x);
 		up(e_.size() - 1, x);
 	}
+	/// Whether the next push grows the queue's storage.
+	bool full() const { return e_.size() == e_.capacity(); }
+	/// Drops the entries with dead(entry) and restores the heap (the order of the others is that
+	/// of `before`, a total order: their pops are as they were).
+	template <class Dead>
+	void drop(Dead dead)
+	{
+		e_.erase(std::remove_if(e_.begin(), e_.end(), dead), e_.end());
+		for (size_t i = e_.size() / 4 + 1; i-- > 0;)
+			if (i < e_.size())
+				down(i, e_[i]);
+	}
+	size_t size() const { return e_.size(); }
+	size_t capacity() const { return e_.capacity(); }
+	void reserve(size_t n) { e_.reserve(n); }
+	void release() { std::vector<Entry>().swap(e_); }
 
 private:
 	std::vector<Entry> e_;
@@ -184,9 +200,11 @@ inline int32_t twinOf(const std::vector<int32_t> &T, const std::vector<int32_t> 
 // triangle.
 class Reducer {
 public:
+	/// With `own` (= &src), the reduction takes the source's arrays it copies, not needed to write
+	/// the level: the source is not held twice.
 	Reducer(const Topology &t, const MeshView &mesh, const CollapseSource &src,
-	        const ReduceLimits &lim, size_t threads)
-	    : t_(t), mesh_(mesh), src_(src), lim_(lim), threads_(threads)
+	        const ReduceLimits &lim, size_t threads, CollapseSource *own = nullptr)
+	    : t_(t), mesh_(mesh), src_(src), own_(own), lim_(lim), threads_(threads)
 	{
 	}
 	bool run(CollapseSource &out, ReduceReport &report);
@@ -195,6 +213,7 @@ private:
 	const Topology &t_;
 	const MeshView &mesh_;
 	const CollapseSource &src_;
+	CollapseSource *const own_;
 	const ReduceLimits &lim_;
 	const size_t threads_;
 	std::vector<Vec3> P_;
@@ -242,6 +261,13 @@ private:
 	/// The cost of a collapse whose quadric error is q and whose largest gap is g.
 	double cost(int32_t a, int32_t b, double g, double q) const;
 	void pushEdges(int32_t v);
+	/// An entry whose edge has lost a vertex or whose end moved since it was costed.
+	bool stale(const Entry &e) const
+	{
+		return kind_[size_t(e.a)] == kGone || kind_[size_t(e.b)] == kGone ||
+		       stamp_[size_t(e.a)] != e.sa || stamp_[size_t(e.b)] != e.sb;
+	}
+	void queue(const Entry &e);
 
 	// vertex kinds, rings and the patches of collapses (reduce_plan.cpp)
 	bool ring(int32_t v, Ring &r) const;
@@ -280,6 +306,16 @@ private:
 	void prune(int32_t v);
 
 	// the start (reduce_setup.cpp) and the level written out (reduce_write.cpp)
+	template <class V>
+	V take(V CollapseSource::*m) const // (a source's array: moved if owned)
+	{
+		return own_ ? std::move(own_->*m) : src_.*m;
+	}
+	template <class V>
+	V take(V LevelMesh::*m) const
+	{
+		return own_ ? std::move(own_->mesh.*m) : src_.mesh.*m;
+	}
 	void setUp();
 	void planeQuadrics();
 	struct Written;

@@ -13,9 +13,12 @@ void Reducer::setUp()
 	P_.resize(nV);
 	for (size_t v = 0; v < nV; ++v)
 		P_[v] = Vec3(&sm.positions[3 * v]);
-	srcV_ = sm.sourceVertex;
-	T_ = sm.triangles;
-	srcC_ = sm.sourceCorner.size() == 3 * nT ? sm.sourceCorner : std::vector<int32_t>();
+	if (own_)
+		decltype(own_->mesh.positions)().swap(own_->mesh.positions);
+	srcV_ = take(&LevelMesh::sourceVertex);
+	T_ = take(&LevelMesh::triangles);
+	if (sm.sourceCorner.size() == 3 * nT)
+		srcC_ = take(&LevelMesh::sourceCorner);
 	alive_.assign(nT, 1);
 	live_ = nT;
 	head_.assign(nV, -1);
@@ -24,9 +27,9 @@ void Reducer::setUp()
 		next_[c] = head_[size_t(T_[c])];
 		head_[size_t(T_[c])] = int32_t(c);
 	}
-	e_ = src_.bound;
+	e_ = take(&CollapseSource::bound);
 	devBound_.assign(nT, -1.0);
-	cone_ = src_.cone;
+	cone_ = take(&CollapseSource::cone);
 	if (lim_.keepSuperfaces) {
 		sf_ = sm.superface;
 		int32_t n = 0; // (over the input faces' ids too: a dropped face's may have no triangle)
@@ -38,7 +41,8 @@ void Reducer::setUp()
 		for (int32_t x = 0; x < n; ++x)
 			sfUf_[size_t(x)] = x;
 	}
-	uvErr_ = src_.uvError.size() == nT ? src_.uvError : std::vector<float>(nT, 0.0f);
+	uvErr_ =
+	    src_.uvError.size() == nT ? take(&CollapseSource::uvError) : std::vector<float>(nT, 0.0f);
 	fwd_.assign(nT, -1);
 	if (t_.UV && !srcC_.empty()) { // (a level's own coordinates, or its corners' sources')
 		uv_.resize(6 * nT);
@@ -48,6 +52,8 @@ void Reducer::setUp()
 				uv_[2 * c + size_t(k)] =
 				    own ? sm.cornerUV[2 * c + size_t(k)] : t_.UV[2 * size_t(srcC_[c]) + size_t(k)];
 	}
+	if (own_)
+		decltype(own_->mesh.cornerUV)().swap(own_->mesh.cornerUV);
 	stamp_.assign(nV, 0);
 	blocked_.assign(nV, 0);
 	// delimiters: an edge whose two triangles differ in face key, or in corner key at an end
@@ -61,7 +67,7 @@ void Reducer::setUp()
 	// quadrics: carried, or the planes of the source's triangles (area-weighted) and of its
 	// boundary and delimiter edges (orthogonal to the triangle, through the edge)
 	if (src_.quadric.size() == nV)
-		Q_ = src_.quadric;
+		Q_ = take(&CollapseSource::quadric);
 	else
 		planeQuadrics();
 	classify();
