@@ -240,8 +240,10 @@ void Reducer::write(CollapseSource &out, ReduceReport &report)
 {
 	out.clear();
 	Written w;
-	groupTriangles(w);
+	groupTriangles(w); // (each array freed once written: the level's peak is here)
+	release(w.cell), release(head_), release(next_), release(dlm_), release(kind_);
 	writeVertices(w, out);
+	release(Q_), release(srcV_);
 	writeTriangles(w, out);
 	writeInputFaces(w, out);
 	writeStats(w, out, report);
