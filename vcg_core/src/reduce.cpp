@@ -151,7 +151,7 @@ bool Reducer::bestOp(int32_t a, int32_t b, uint8_t tried, Entry &e) const
 			return false;
 		const double g = gapLowerBound(a, b, best, pos);
 		if (g <= lim_.bound) {
-			e = {cost(a, b, g, bestQ), a,    b, stamp_[size_t(a)], stamp_[size_t(b)],
+			e = {cost(a, b, g, bestQ), a,    b, stamp_[size_t(a)] + stamp_[size_t(b)],
 			     uint8_t(best),        tried};
 			return true;
 		}
@@ -195,8 +195,9 @@ double Reducer::gapLowerBound(int32_t a, int32_t b, int op, const Vec3 &pos) con
 
 void Reducer::queue(const Entry &e)
 {
-	// (a full queue first drops its stale entries, about half of it, and grows by a quarter only
-	// if it is still nearly full: grown by doubling, it was a third of a collapse level's peak)
+	// (a full queue first drops its stale entries, a quarter to a half of it, and grows by a
+	// quarter only if it is still nearly full: grown by doubling, the old and new arrays at once
+	// were a third of a collapse level's peak)
 	if (heap_.full() && !heap_.empty()) {
 		heap_.drop([this](const Entry &x) { return stale(x); });
 		if (heap_.size() > heap_.capacity() / 8 * 7)
@@ -250,8 +251,8 @@ void Reducer::seedQueue()
 	});
 	for (size_t k = 0; k < nChunks; ++k)
 		start[k + 1] += start[k];
-	std::vector<Entry> all; // (room for the pushes of the first collapses: see queue())
-	all.reserve(start[nChunks] + start[nChunks] / 4 + 64);
+	std::vector<Entry> all; // (room for half as many again: the queue then seldom grows, queue())
+	all.reserve(start[nChunks] + start[nChunks] / 2 + 64);
 	all.resize(start[nChunks]);
 	parallelRanges(nChunks, threads_, [&](size_t cb, size_t ce, size_t) {
 		std::vector<int32_t> nb;

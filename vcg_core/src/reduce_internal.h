@@ -31,10 +31,12 @@ enum Op : uint8_t { kAtBest, kAtMiddle, kAtA, kAtB, kHalfAB, kHalfBA, kOps };
 // bound of it)
 constexpr uint8_t kExactKey = 0x80;
 
+// (s: the sum of a's and b's stamps when it was costed; stamps only grow, so an equal sum means
+// neither end has moved: 24 bytes an entry, not 32)
 struct Entry {
 	double cost;
 	int32_t a, b;
-	uint32_t sa, sb;
+	uint32_t s;
 	uint8_t op, tried;
 	bool before(const Entry &o) const // (first out: least cost, then lowest a, b, op)
 	{
@@ -47,6 +49,8 @@ struct Entry {
 		return op < o.op;
 	}
 };
+
+static_assert(sizeof(Entry) == 24, "a queue entry: 24 bytes");
 
 // The collapses in line: a 4-ary heap. Its pops are the loop's largest cost, each a walk down a
 // heap too large for the cache: four children to an entry halve the levels of a binary heap.
@@ -265,7 +269,7 @@ private:
 	bool stale(const Entry &e) const
 	{
 		return kind_[size_t(e.a)] == kGone || kind_[size_t(e.b)] == kGone ||
-		       stamp_[size_t(e.a)] != e.sa || stamp_[size_t(e.b)] != e.sb;
+		       stamp_[size_t(e.a)] + stamp_[size_t(e.b)] != e.s;
 	}
 	void queue(const Entry &e);
 
