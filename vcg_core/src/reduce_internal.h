@@ -79,8 +79,8 @@ public:
 	}
 	/// Whether the next push grows the queue's storage.
 	bool full() const { return e_.size() == e_.capacity(); }
-	/// Drops the entries with dead(entry) and restores the heap (the order of the others is that
-	/// of `before`, a total order: their pops are as they were).
+	/// Drops the entries with dead(entry) and restores the heap: the others pop in `before`'s order
+	/// as they did (only entries equal in cost, a, b and op could change places).
 	template <class Dead>
 	void drop(Dead dead)
 	{
