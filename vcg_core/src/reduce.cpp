@@ -195,9 +195,9 @@ double Reducer::gapLowerBound(int32_t a, int32_t b, int op, const Vec3 &pos) con
 
 void Reducer::queue(const Entry &e)
 {
-	// (a full queue first drops its stale entries, a quarter to a half of it, and grows by a
-	// quarter only if it is still nearly full: grown by doubling, the old and new arrays at once
-	// were a third of a collapse level's peak)
+	// (a full queue first drops its stale entries, an eighth to two fifths of it on the bumpy
+	// spheres, and grows by a quarter only if it is still nearly full: grown by doubling, the old
+	// and new arrays at once were a third of a collapse level's peak)
 	if (heap_.full() && !heap_.empty()) {
 		heap_.drop([this](const Entry &x) { return stale(x); });
 		if (heap_.size() > heap_.capacity() / 8 * 7)
@@ -359,8 +359,7 @@ bool Reducer::run(CollapseSource &out, ReduceReport &report)
 		}
 	}
 	heap_.release(); // (the loop's own arrays: not needed to write the level)
-	std::vector<uint32_t>().swap(stamp_);
-	std::vector<uint8_t>().swap(blocked_);
+	release(stamp_), release(blocked_);
 	write(out, report);
 	return !more() || !budget;
 }

@@ -92,7 +92,7 @@ public:
 	size_t size() const { return e_.size(); }
 	size_t capacity() const { return e_.capacity(); }
 	void reserve(size_t n) { e_.reserve(n); }
-	void release() { std::vector<Entry>().swap(e_); }
+	void release() { detail::release(e_); }
 
 private:
 	std::vector<Entry> e_;

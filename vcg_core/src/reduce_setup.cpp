@@ -14,7 +14,7 @@ void Reducer::setUp()
 	for (size_t v = 0; v < nV; ++v)
 		P_[v] = Vec3(&sm.positions[3 * v]);
 	if (own_)
-		decltype(own_->mesh.positions)().swap(own_->mesh.positions);
+		release(own_->mesh.positions);
 	srcV_ = take(&LevelMesh::sourceVertex);
 	T_ = take(&LevelMesh::triangles);
 	if (sm.sourceCorner.size() == 3 * nT)
@@ -53,7 +53,7 @@ void Reducer::setUp()
 				    own ? sm.cornerUV[2 * c + size_t(k)] : t_.UV[2 * size_t(srcC_[c]) + size_t(k)];
 	}
 	if (own_)
-		decltype(own_->mesh.cornerUV)().swap(own_->mesh.cornerUV);
+		release(own_->mesh.cornerUV);
 	stamp_.assign(nV, 0);
 	blocked_.assign(nV, 0);
 	// delimiters: an edge whose two triangles differ in face key, or in corner key at an end
