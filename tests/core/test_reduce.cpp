@@ -213,3 +213,63 @@ TEST(Reduce, a_budget_under_what_the_holes_allow_stops_there_and_says_so)
 	          std::string::npos)
 	    << budgetNote(lo);
 }
+
+TEST(Reduce, collapses_by_regions_do_not_depend_on_threads_and_keep_every_bound)
+{
+	// DESIGN 57: the first collapses made by regions (here of 300 vertices: the textured sphere's
+	// 4,514 in 15), by a budget and by an error, bare and textured: the same level for 1 and 3
+	// threads, closed, the budget reached or every triangle within the error, texture coordinates
+	// finite; and about as near the input as one queue for the whole mesh
+	const TexturedSphere s = texturedSphere(96, 48);
+	for (const bool textured : {false, true})
+		for (const bool budget : {true, false}) {
+			SCOPED_TRACE(std::string(textured ? "textured" : "bare") +
+			             (budget ? ", budget" : ", error"));
+			const MeshView view = textured ? s.view() : s.mesh.view();
+			detail::Topology t;
+			detail::buildTopology(view, 30.0, t);
+			detail::ReduceLimits lim;
+			if (budget)
+				lim.faces = facesOf(s.mesh) / 10;
+			else
+				lim.bound = 0.004 * t.diagonal;
+			lim.texError = textured ? 0.02 : 0.0;
+			lim.texErrorSoft = budget;
+			lim.regionVertices = 300;
+			detail::ReduceLimits whole = lim;
+			whole.regionVertices = 0;
+			detail::CollapseSource out1, out3, outWhole;
+			detail::ReduceReport r1, r3, rWhole;
+			auto reduce = [&](const detail::ReduceLimits &l, size_t threads,
+			                  detail::CollapseSource &out, detail::ReduceReport &rep) {
+				detail::CollapseSource src;
+				detail::inputSource(t, view, src);
+				EXPECT_TRUE(detail::reduceLevel(t, view, std::move(src), l, threads, out, rep));
+			};
+			reduce(lim, 1, out1, r1);
+			reduce(lim, 3, out3, r3);
+			reduce(whole, 2, outWhole, rWhole);
+			EXPECT_EQ(r1.regions, 15);
+			EXPECT_GT(r1.regionCollapses, r1.collapses / 3); // (most of them, yet not all)
+			EXPECT_LT(r1.regionCollapses, r1.collapses);
+			EXPECT_EQ(rWhole.regions, 0);
+			EXPECT_EQ(rWhole.regionCollapses, 0u);
+			EXPECT_EQ(out1.mesh.triangles, out3.mesh.triangles);
+			EXPECT_EQ(out1.mesh.positions, out3.mesh.positions);
+			EXPECT_EQ(out1.mesh.cornerUV, out3.mesh.cornerUV);
+			EXPECT_EQ(out1.bound, out3.bound);
+			const LevelStats &st = out1.mesh.stats, &sw = outWhole.mesh.stats;
+			EXPECT_TRUE(topoFacts(out1.mesh.positions, out1.mesh.triangles).closedManifold());
+			if (budget) {
+				EXPECT_LE(st.faces, lim.faces);
+				EXPECT_LE(st.distanceBound, 1.25 * sw.distanceBound);
+			} else {
+				EXPECT_LE(st.distanceBound, lim.bound);
+				EXPECT_LE(double(st.faces), 1.1 * double(sw.faces));
+			}
+			for (float x : out1.mesh.cornerUV)
+				EXPECT_TRUE(std::isfinite(x));
+			if (textured)
+				EXPECT_LE(r1.maxTexError, budget ? 1.0 : lim.texError);
+		}
+}

@@ -33,11 +33,16 @@ struct ReduceLimits {
 	/// The output's superfaces are the source's, merged where a collapse joins them (DESIGN 50:
 	/// every output corner's source a corner of its superface), not the level's cells'.
 	bool keepSuperfaces = false;
+	/// DESIGN 57: the first collapses are made by regions of about this many vertices, apart and
+	/// in parallel, where the source has at least two (0: one queue for the whole mesh)
+	size_t regionVertices = 16384;
 };
 
 /// What a reduction did (why a budget was not reached: the level's LevelStats::leastFaces).
 struct ReduceReport {
 	size_t collapses = 0;
+	size_t regionCollapses = 0; ///< of them, made by regions (DESIGN 57)
+	int regions = 0;            ///< the regions they were made by (0: none)
 	double maxTexError = -1; ///< with texture coordinates: the largest UV error bound of a triangle
 	double texErrorLimit = 0; ///< the limit, or the largest error if a soft one gave way
 };

@@ -28,7 +28,7 @@ void Reducer::fanCones(const Plan &pl, NormalCone *cones, double *dev) const
 	}
 }
 
-void Reducer::removeDead(const Plan &pl)
+void Reducer::removeDead(Lane &L, const Plan &pl)
 {
 	const PatchCase &c = pl.pc;
 	if (lim_.keepSuperfaces) { // (the patch's superfaces become one)
@@ -48,7 +48,7 @@ void Reducer::removeDead(const Plan &pl)
 			++i;
 		fwd_[size_t(pl.dead[d])] = pl.newId[i];
 		alive_[size_t(pl.dead[d])] = 0;
-		--live_;
+		++L.dead;
 	}
 }
 
@@ -87,7 +87,7 @@ void Reducer::rewriteFan(const Plan &pl, const NormalCone *cones, const double *
 	}
 }
 
-void Reducer::relink(const Plan &pl)
+void Reducer::relink(Lane &L, const Plan &pl)
 {
 	const PatchCase &c = pl.pc;
 	const int32_t u = pl.kept, v = pl.gone;
@@ -101,11 +101,11 @@ void Reducer::relink(const Plan &pl)
 		head_[size_t(v)] = -1;
 	}
 	kind_[size_t(v)] = kGone;
-	prune(u);
+	prune(L, u);
 	for (int d = 0; d < pl.nDead; ++d)
 		for (int32_t q = 3 * pl.dead[d]; q < 3 * pl.dead[d] + 3; ++q)
 			if (T_[size_t(q)] != u && T_[size_t(q)] != v)
-				prune(T_[size_t(q)]);
+				prune(L, T_[size_t(q)]);
 	if (keys_) { // (the fan's edges join triangles anew: their delimiters, and the kinds around)
 		for (int i = 0; i < c.nNew; ++i)
 			for (int k = 0; k < 3; ++k)
@@ -120,36 +120,37 @@ void Reducer::relink(const Plan &pl)
 	}
 }
 
-void Reducer::prune(int32_t v)
+void Reducer::prune(Lane &L, int32_t v)
 {
-	scratch_.clear();
+	std::vector<int32_t> &s = L.scratch;
+	s.clear();
 	for (int32_t c = head_[size_t(v)]; c >= 0; c = next_[size_t(c)])
 		if (alive_[size_t(heFace(c))])
-			scratch_.push_back(c);
+			s.push_back(c);
 	head_[size_t(v)] = -1;
-	for (auto it = scratch_.rbegin(); it != scratch_.rend(); ++it) {
+	for (auto it = s.rbegin(); it != s.rend(); ++it) {
 		next_[size_t(*it)] = head_[size_t(v)];
 		head_[size_t(v)] = *it;
 	}
 }
 
-void Reducer::apply(const Plan &pl)
+void Reducer::apply(Lane &L, const Plan &pl)
 {
 	NormalCone cones[PatchCase::kMaxTris];
 	double dev[PatchCase::kMaxTris];
 	fanCones(pl, cones, dev);
-	removeDead(pl);
+	removeDead(L, pl);
 	rewriteFan(pl, cones, dev);
-	relink(pl);
+	relink(L, pl);
 	const PatchCase &c = pl.pc;
 	const int32_t u = pl.kept, v = pl.gone;
 	++stamp_[size_t(u)];
-	pushEdges(u);
+	pushEdges(L, u);
 	for (int i = 0; i < c.nPts; ++i) { // (collapses refused near here may be legal now)
 		const int32_t w = pl.point[i];
 		if (w >= 0 && w != u && w != v && blocked_[size_t(w)]) {
 			blocked_[size_t(w)] = 0;
-			pushEdges(w);
+			pushEdges(L, w);
 		}
 	}
 }

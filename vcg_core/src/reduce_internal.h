@@ -93,6 +93,7 @@ public:
 	size_t capacity() const { return e_.capacity(); }
 	void reserve(size_t n) { e_.reserve(n); }
 	void release() { detail::release(e_); }
+	const std::vector<Entry> &entries() const { return e_; } ///< (in heap order)
 
 private:
 	std::vector<Entry> e_;
@@ -125,6 +126,18 @@ private:
 		}
 		e_[i] = x;
 	}
+};
+
+// Where collapses are made from one queue (DESIGN 57): the whole mesh, or one region of it while
+// the regions' collapses run apart from each other. A collapse waits while it costs over `limit`;
+// a region stops at `cap` collapses.
+struct Lane {
+	CollapseQueue heap;
+	std::vector<int32_t> scratch;
+	size_t dead = 0, made = 0; ///< triangles removed, collapses made
+	size_t cap = SIZE_MAX;
+	double limit = HUGE_VAL;
+	bool deep = false; ///< a region's lane: only edges between its deep vertices (deep_)
 };
 
 // The triangles around a vertex in counter-clockwise order: face[i] = (v, nb[i], nb[i+1]);
@@ -229,9 +242,13 @@ private:
 	std::vector<NormalCone> cone_;
 	std::vector<float> uvErr_;
 	std::vector<Quadric> Q_;
-	CollapseQueue heap_;
-	size_t live_ = 0, collapses_ = 0;
-	std::vector<int32_t> scratch_;
+	Lane main_;                       // (the whole mesh's queue)
+	size_t live_ = 0, collapses_ = 0; // (main_'s and the regions' added when they stop)
+	size_t regionMade_ = 0;           // (of collapses_, by regions)
+	int regions_ = 0;
+	// (DESIGN 57: per vertex, 1 where it is deep in its region, its neighbours' neighbours all in
+	// it: collapses between deep vertices of one region touch no other region's data)
+	std::vector<uint8_t> deep_;
 	// (seams and junctions move across charts where a face count is asked: their cost counts the
 	// texture's shift, so the collapses along seams go first)
 	bool checkFacing_ = true;
@@ -255,8 +272,10 @@ private:
 	}
 
 	// the driver and the queue (reduce.cpp)
-	void seedQueue();
-	void tryCollapse(Entry top, Plan &pl);
+	void seedQueue(std::vector<Lane> *regions = nullptr);
+	bool regionsFirst();
+	void runRegions(std::vector<Lane> &lanes, double limit);
+	void tryCollapse(Lane &L, Entry top, Plan &pl);
 	double opCost(int32_t a, int32_t b, int op, Vec3 &pos) const;
 	bool allowed(int32_t a, int32_t b, int op, bool boundaryEdge, bool delimiterEdge) const;
 	bool edgeFlags(int32_t a, int32_t b, bool &boundaryEdge, bool &delimiterEdge) const;
@@ -264,14 +283,19 @@ private:
 	double gapLowerBound(int32_t a, int32_t b, int op, const Vec3 &pos) const;
 	/// The cost of a collapse whose quadric error is q and whose largest gap is g.
 	double cost(int32_t a, int32_t b, double g, double q) const;
-	void pushEdges(int32_t v);
+	void pushEdges(Lane &L, int32_t v);
+	/// Is the edge v-w one of L's (the whole mesh's, or in L's region between deep vertices)?
+	bool inLane(const Lane &L, int32_t v, int32_t w) const
+	{
+		return !L.deep || (deep_[size_t(v)] && deep_[size_t(w)]);
+	}
 	/// An entry whose edge has lost a vertex or whose end moved since it was costed.
 	bool stale(const Entry &e) const
 	{
 		return kind_[size_t(e.a)] == kGone || kind_[size_t(e.b)] == kGone ||
 		       stamp_[size_t(e.a)] + stamp_[size_t(e.b)] != e.s;
 	}
-	void queue(const Entry &e);
+	void queue(Lane &L, const Entry &e);
 
 	// vertex kinds, rings and the patches of collapses (reduce_plan.cpp)
 	bool ring(int32_t v, Ring &r) const;
@@ -302,12 +326,12 @@ private:
 	double textureShift(const Plan &pl) const;
 
 	// making a collapse (reduce_apply.cpp)
-	void apply(const Plan &pl);
+	void apply(Lane &L, const Plan &pl);
 	void fanCones(const Plan &pl, NormalCone *cones, double *dev) const;
-	void removeDead(const Plan &pl);
+	void removeDead(Lane &L, const Plan &pl);
 	void rewriteFan(const Plan &pl, const NormalCone *cones, const double *dev);
-	void relink(const Plan &pl);
-	void prune(int32_t v);
+	void relink(Lane &L, const Plan &pl);
+	void prune(Lane &L, int32_t v);
 
 	// the start (reduce_setup.cpp) and the level written out (reduce_write.cpp)
 	template <class V>

@@ -232,6 +232,8 @@ void Reducer::writeStats(const Written &w, CollapseSource &out, ReduceReport &re
 	st.collapses = collapses_;
 	st.maxTexError = t_.UV ? double(w.maxUv) : -1;
 	report.collapses = collapses_;
+	report.regionCollapses = regionMade_;
+	report.regions = regions_;
 	report.maxTexError = st.maxTexError;
 	report.texErrorLimit = std::max(lim_.texError, st.maxTexError); // (a soft one gave way)
 }
