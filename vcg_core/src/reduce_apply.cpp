@@ -31,7 +31,12 @@ void Reducer::fanCones(const Plan &pl, NormalCone *cones, double *dev) const
 void Reducer::removeDead(Lane &L, const Plan &pl)
 {
 	const PatchCase &c = pl.pc;
-	if (lim_.keepSuperfaces) { // (the patch's superfaces become one)
+	if (lim_.keepSuperfaces && L.deep) { // (a region's: joined once the regions stop)
+		const int32_t s0 = sf_[size_t(pl.oldId[0])];
+		for (int j = 1; j < c.nOld; ++j)
+			if (sf_[size_t(pl.oldId[j])] != s0)
+				L.joins.push_back(s0), L.joins.push_back(sf_[size_t(pl.oldId[j])]);
+	} else if (lim_.keepSuperfaces) { // (the patch's superfaces become one)
 		const int32_t root = superfaceOf(pl.oldId[0]);
 		for (int j = 1; j < c.nOld; ++j) {
 			const int32_t r = superfaceOf(pl.oldId[j]);

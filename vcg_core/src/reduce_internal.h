@@ -93,6 +93,7 @@ public:
 	size_t capacity() const { return e_.capacity(); }
 	void reserve(size_t n) { e_.reserve(n); }
 	void release() { detail::release(e_); }
+	void fit() { e_.shrink_to_fit(); }
 	const std::vector<Entry> &entries() const { return e_; } ///< (in heap order)
 
 private:
@@ -137,7 +138,8 @@ struct Lane {
 	size_t dead = 0, made = 0; ///< triangles removed, collapses made
 	size_t cap = SIZE_MAX;
 	double limit = HUGE_VAL;
-	bool deep = false; ///< a region's lane: only edges between its deep vertices (deep_)
+	bool deep = false;          ///< a region's lane: only edges between its deep vertices (deep_)
+	std::vector<int32_t> joins; ///< (keepSuperfaces, a region: source superfaces joined, pairs)
 };
 
 // The triangles around a vertex in counter-clockwise order: face[i] = (v, nb[i], nb[i+1]);
@@ -265,7 +267,10 @@ private:
 	double slop() const { return 1e-12 * t_.diagonal; }
 	int32_t superfaceOf(int32_t f) // (keepSuperfaces: the root of f's merged source superface)
 	{
-		int32_t x = sf_[size_t(f)];
+		return rootOf(sf_[size_t(f)]);
+	}
+	int32_t rootOf(int32_t x) // (the root of source superface x, as merged)
+	{
 		while (sfUf_[size_t(x)] != x)
 			x = sfUf_[size_t(x)] = sfUf_[size_t(sfUf_[size_t(x)])];
 		return x;
@@ -274,6 +279,12 @@ private:
 	// the driver and the queue (reduce.cpp)
 	void seedQueue(std::vector<Lane> *regions = nullptr);
 	bool regionsFirst();
+	void cutRegions(size_t nR, double shift, std::vector<uint16_t> &region,
+	                std::vector<std::vector<int32_t>> &verts);
+	void seedRegions(std::vector<Lane> &lanes, const std::vector<uint16_t> &region,
+	                 const std::vector<std::vector<int32_t>> &verts, std::vector<Lane> &before,
+	                 const std::vector<uint8_t> &held);
+	void foldRegions(std::vector<Lane> &lanes);
 	void runRegions(std::vector<Lane> &lanes, double limit);
 	void tryCollapse(Lane &L, Entry top, Plan &pl);
 	double opCost(int32_t a, int32_t b, int op, Vec3 &pos) const;
