@@ -314,3 +314,29 @@ TEST(Reduce, collapses_by_regions_keep_the_superfaces_they_join_as_one_queue_doe
 		wrong += out1.mesh.superface[size_t(out1.inputTri[f])] != out1.mesh.inputSuperface[f];
 	EXPECT_EQ(wrong, 0u);
 }
+
+TEST(Reduce, a_mesh_of_two_default_regions_is_reduced_by_them_the_same_for_any_threads)
+{
+	// DESIGN 57 at the default region size (16,384 vertices): a sphere of 33,538 vertices has two;
+	// the level is the same for 1 and 2 threads, closed, at the budget
+	const TexturedSphere s = texturedSphere(262, 129);
+	detail::Topology t;
+	detail::buildTopology(s.mesh.view(), 30.0, t);
+	ASSERT_GE(t.nV, 2 * detail::ReduceLimits().regionVertices);
+	detail::ReduceLimits lim;
+	lim.faces = facesOf(s.mesh) / 20;
+	detail::CollapseSource out1, out2;
+	detail::ReduceReport r1, r2;
+	for (const size_t threads : {size_t(1), size_t(2)}) {
+		detail::CollapseSource src;
+		detail::inputSource(t, s.mesh.view(), src);
+		EXPECT_TRUE(detail::reduceLevel(t, s.mesh.view(), std::move(src), lim, threads,
+		                                threads == 1 ? out1 : out2, threads == 1 ? r1 : r2));
+	}
+	EXPECT_EQ(r1.regions, 2);
+	EXPECT_GT(r1.regionCollapses, r1.collapses / 2);
+	EXPECT_EQ(out1.mesh.triangles, out2.mesh.triangles);
+	EXPECT_EQ(out1.mesh.positions, out2.mesh.positions);
+	EXPECT_LE(out1.mesh.stats.faces, lim.faces);
+	EXPECT_TRUE(topoFacts(out1.mesh.positions, out1.mesh.triangles).closedManifold());
+}
