@@ -297,9 +297,11 @@ void Reducer::seedQueue(std::vector<Lane> *regions)
 // deep vertices (whose neighbours' neighbours are all in the region). A collapse between deep
 // vertices reads and writes only its region's vertices, corners and triangles (and reads the
 // triangles that touch another region, which no region changes), so the regions' collapses are
-// the same whatever the threads and their order. They collapse up to a cost limit, the whole
-// mesh's queue then takes over with the regions' queues and the edges they did not hold: what the
-// regions made is what one queue makes below that limit, but for the order along region borders.
+// the same whatever the threads and their order. They collapse up to a cost limit; a second pass,
+// its Morton runs shifted, takes their queues and collapses up to the same limit where the first
+// pass's borders were; the whole mesh's queue then takes over with the second pass's queues and
+// the edges they did not hold: what the regions made is what one queue makes below that limit,
+// but for the order along region borders.
 // By a budget the limit grows by rounds until the regions have made kRegionsGoal of their share
 // (what the budget removes of all, of the triangles they can remove): a limit so high that they
 // reach their whole share cost 13 % in the certified distance of the 1M bumpy sphere's finest
