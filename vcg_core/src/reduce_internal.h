@@ -1,12 +1,15 @@
 // The edge-collapse reducer's pieces (reduce.h), shared by its files: the driver, the queue and
 // the collapses' costs (reduce.cpp, one translation unit for the loop's hot calls); the vertex
 // kinds, rings and the patches a collapse replaces (reduce_plan.cpp); a planned collapse's checks
-// and texture (reduce_check.cpp); making it (reduce_apply.cpp); the start (reduce_setup.cpp) and
-// the level written out (reduce_write.cpp).
+// and texture (reduce_check.cpp); making it (reduce_apply.cpp); the first collapses by regions
+// (reduce_regions.cpp); the start (reduce_setup.cpp) and the level written out (reduce_write.cpp).
 #pragma once
 
 #include "reduce.h"
 #include "reduce_patch.h"
+
+#include <algorithm>
+#include <vector>
 
 namespace gausslod {
 namespace detail {
@@ -284,6 +287,8 @@ private:
 	void seedRegions(std::vector<Lane> &lanes, const std::vector<uint16_t> &region,
 	                 const std::vector<std::vector<int32_t>> &verts, std::vector<Lane> &before,
 	                 const std::vector<uint8_t> &held);
+	void shareBudget(std::vector<Lane> &lanes, const std::vector<uint16_t> &region);
+	double runToGoal(std::vector<Lane> &lanes); ///< (the limit it reached)
 	void foldRegions(std::vector<Lane> &lanes);
 	void runRegions(std::vector<Lane> &lanes, double limit);
 	void tryCollapse(Lane &L, Entry top, Plan &pl);
@@ -295,6 +300,19 @@ private:
 	/// The cost of a collapse whose quadric error is q and whose largest gap is g.
 	double cost(int32_t a, int32_t b, double g, double q) const;
 	void pushEdges(Lane &L, int32_t v);
+	/// v's neighbours w > v with keep(w), sorted, each once, into nb (the edges a seed costs).
+	template <class Keep>
+	void higherNeighbours(int32_t v, std::vector<int32_t> &nb, Keep keep) const
+	{
+		nb.clear();
+		for (int32_t c = head_[size_t(v)]; c >= 0; c = next_[size_t(c)])
+			if (alive_[size_t(heFace(c))])
+				for (const int32_t w : {T_[size_t(heNext(c))], T_[size_t(hePrev(c))]})
+					if (w > v && keep(w))
+						nb.push_back(w);
+		std::sort(nb.begin(), nb.end());
+		nb.erase(std::unique(nb.begin(), nb.end()), nb.end());
+	}
 	/// Is the edge v-w one of L's (the whole mesh's, or in L's region between deep vertices)?
 	bool inLane(const Lane &L, int32_t v, int32_t w) const
 	{
