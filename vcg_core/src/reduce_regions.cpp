@@ -85,13 +85,15 @@ void Reducer::seedRegions(std::vector<Lane> &lanes, const std::vector<uint16_t> 
 {
 	const size_t nR = lanes.size();
 	// the queues of the regions before, for the edges that stay between deep vertices of one
-	// region, in their order; counted first, with room for an eighth more (a region drops its
-	// stale entries when full, a small array)
-	std::vector<size_t> routed(nR, 0);
+	// region, in their order, then the edges not held before; counted first, with room for an
+	// eighth more (a region drops its stale entries when full, a small array), and reserved on
+	// this thread: reserved on the workers, glibc kept them in the workers' arenas once freed
+	// (the certified 1M budget chain's peak RSS 6 % higher with the same peak heap)
+	std::vector<size_t> count(nR, 0);
 	for (const Lane &B : before)
 		for (const Entry &e : B.heap.entries())
 			if (deep_[size_t(e.a)] && deep_[size_t(e.b)])
-				++routed[region[size_t(e.a)]];
+				++count[region[size_t(e.a)]];
 	std::vector<std::vector<Entry>> seed(nR);
 	auto higher = [&](int32_t v, std::vector<int32_t> &nb) { // (the edges not held before)
 		higherNeighbours(v, nb, [&](int32_t w) {
@@ -101,14 +103,13 @@ void Reducer::seedRegions(std::vector<Lane> &lanes, const std::vector<uint16_t> 
 	std::atomic<size_t> next(0);
 	onWorkers(std::min(threads_, nR), [&](size_t) {
 		std::vector<int32_t> nb;
-		for (size_t r; (r = next++) < nR;) {
-			size_t n = routed[r];
+		for (size_t r; (r = next++) < nR;)
 			for (const int32_t v : verts[r])
 				if (deep_[size_t(v)])
-					higher(v, nb), n += nb.size();
-			seed[r].reserve(n + n / 8 + 16);
-		}
+					higher(v, nb), count[r] += nb.size();
 	});
+	for (size_t r = 0; r < nR; ++r) // (on this thread: see above)
+		seed[r].reserve(count[r] + count[r] / 8 + 16);
 	for (Lane &B : before) {
 		for (const Entry &e : B.heap.entries())
 			if (deep_[size_t(e.a)] && deep_[size_t(e.b)])
