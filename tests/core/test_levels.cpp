@@ -233,8 +233,10 @@ TEST(Levels, levels_by_target_keep_every_invariant_and_do_not_depend_on_threads)
 }
 
 // DESIGN 55: with the collapses known first, one budget on a curved model stops the tolerance
-// search after two builds (camel: ten before), and where the collapses are exact (a planar cube)
-// no superface build is made at all.
+// search after two builds (camel: ten before); in a five-budget chain, whose finest cells are
+// small, the top build cannot reach the first budget and Euler's bound stops it in its first
+// round, before it triangulates (four rounds before); and where the collapses are exact (a
+// planar cube) no superface build is made at all.
 TEST(Levels, one_budget_stops_the_search_where_the_collapses_are_nearer)
 {
 	Params p;
@@ -249,6 +251,17 @@ TEST(Levels, one_budget_stops_the_search_where_the_collapses_are_nearer)
 	EXPECT_TRUE(s.reduced);
 	EXPECT_LE(s.faces, camel.triangles.size() / 6);
 	EXPECT_LE(s.trials, 2);
+	Params chain;
+	ASSERT_TRUE(parseLevelsBy("faces:50%,25%,10%,5%,2%", chain, error)) << error;
+	chain.certifyDistance = false;
+	const Result five = buildLevels(camel.view(), chain);
+	ASSERT_TRUE(five.ok) << five.error;
+	ASSERT_EQ(five.levels.size(), 5u);
+	const LevelStats &finest = five.levels[0].stats;
+	EXPECT_TRUE(finest.reduced);
+	EXPECT_EQ(finest.faces, camel.triangles.size() / 6); // (the triangles are 3 indices each)
+	EXPECT_EQ(finest.trials, 1);
+	EXPECT_EQ(finest.rounds, 1);
 	const FlatMesh cube = gridCube(20);
 	const Result c = buildLevels(cube.view(), p);
 	ASSERT_TRUE(c.ok) << c.error;

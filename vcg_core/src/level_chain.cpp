@@ -236,7 +236,7 @@ void LevelChain::buildSuperfaces(Work &w)
 		const double beat = w.collapsedFirst && w.earlyGot ? w.earlyFar : -1.0;
 		buildToFaceTarget(topo_, params_, parts_, level, w.target, w.faceLimit, cost, beat,
 		                  in_.threads, lm, merged_);
-		if (lm.stats.faces == SIZE_MAX) { // (no build: DESIGN 55)
+		if (lm.triangles.empty()) { // (no build, or none placed over the budget: DESIGN 55)
 			lm.stats.level = level;
 			lm.stats.boundDeg = levelBoundDeg(level);
 		}

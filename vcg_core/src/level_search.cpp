@@ -169,13 +169,13 @@ void buildToFaceTarget(const Topology &topo, const Params &params, std::vector<P
 	int trials = 0;
 	// builds with tolerance 10^logTol; the level's faces (above the finer level's count the
 	// level will be the finer one); keeps the build if it fits the budget with the most faces
-	auto run = [&](double logTol) {
+	auto run = [&](double logTol, size_t limit) {
 		const double tol = std::pow(10.0, logTol);
 		trial.levelDistances[size_t(level)] = tol;
 		if (trials++ > 0)
 			p = start;
 		LevelMesh out;
-		buildLevelGeometry(topo, trial, parts, p, out, faceLimit, cost);
+		buildLevelGeometry(topo, trial, parts, p, out, limit, cost);
 		const size_t faces = std::min(out.stats.faces, faceLimit);
 		// (a fitting trial always has the smallest tolerance of the fitting ones so far)
 		if (trials == 1 || (faces <= target && faces >= bestFaces)) {
@@ -193,13 +193,15 @@ void buildToFaceTarget(const Topology &topo, const Params &params, std::vector<P
 	// tolerance `beat` decides: over the budget, no build within it would be chosen
 	bool reached = false, outOfRace = beat == 0;
 	if (!outOfRace) {
-		reached = run(hi) <= target;
+		// (the collapses reached the budget: a top build that cannot reach it is out of the
+		// race, and Euler's bound may say so before it triangulates, DESIGN 35)
+		reached = run(hi, beat > 0 ? std::min(faceLimit, target) : faceLimit) <= target;
 		outOfRace = beat > 0 && !reached;
 	}
 	if (reached && beat > 0 &&
 	    farthestInputVertex(topo, lm, lm.stats.distanceBound, threads) > beat) {
 		const double capLog = std::log10(beat / topo.diagonal);
-		reached = capLog > lo && capLog < hi && run(capLog) <= target;
+		reached = capLog > lo && capLog < hi && run(capLog, faceLimit) <= target;
 		if (reached)
 			hi = capLog;
 		outOfRace = !reached;
@@ -208,7 +210,7 @@ void buildToFaceTarget(const Topology &topo, const Params &params, std::vector<P
 	                   hi - lo > kSearchWidth;
 	     ++step) {
 		const double mid = 0.5 * (lo + hi);
-		(run(mid) <= target ? hi : lo) = mid;
+		(run(mid, faceLimit) <= target ? hi : lo) = mid;
 	}
 	if (trials == 0) { // (no build: the collapses make the level)
 		lm = LevelMesh();
