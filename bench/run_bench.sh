@@ -39,7 +39,7 @@ command -v blender >/dev/null 2>&1 || echo "run_bench.sh: blender not found: Ble
 if [ ! -f "$build/CMakeCache.txt" ]; then
   cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 fi
-cmake --build "$build" -j"$jobs" --target gausslod bench_gen bench_load bench_peers bench_metrics
+cmake --build "$build" -j"$jobs" --target gausslod bench_gen bench_load bench_peers bench_metrics bench_texdev
 
 export BENCH_CMDLINE="bench/run_bench.sh${*:+ $*}"
 python3 "$here/run_bench.py" --build "$build" "$@"
