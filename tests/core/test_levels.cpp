@@ -270,6 +270,34 @@ TEST(Levels, one_budget_stops_the_search_where_the_collapses_are_nearer)
 	EXPECT_EQ(c.levels[0].stats.trials, 0);
 }
 
+// DESIGN 52: a level that is the same mesh as the last one certified (a planar cube's levels
+// all are its 12 faces) takes that certificate instead of measuring again.
+TEST(Levels, a_level_that_is_the_last_certified_mesh_takes_its_certificate)
+{
+	const FlatMesh cube = gridCube(30);
+	Params p; // (certified by default)
+	const Result r = buildLevels(cube.view(), p);
+	ASSERT_TRUE(r.ok) << r.error;
+	ASSERT_EQ(r.levels.size(), 5u);
+	const LevelStats &first = r.levels[0].stats;
+	ASSERT_GE(first.hausdorff, 0);
+	EXPECT_GT(first.secondsHausdorff, 0);
+	for (size_t i = 1; i < r.levels.size(); ++i) {
+		const LevelMesh &l = r.levels[i];
+		ASSERT_EQ(l.triangles, r.levels[0].triangles) << i;
+		ASSERT_EQ(l.positions, r.levels[0].positions) << i;
+		EXPECT_EQ(l.stats.hausdorff, first.hausdorff) << i;
+		EXPECT_EQ(l.stats.hausdorffLower, first.hausdorffLower) << i;
+		EXPECT_EQ(l.stats.secondsHausdorff, 0) << i;
+	}
+	// (measured again, the same level gets the same figure)
+	p.maxLevel = 1;
+	const Result one = buildLevels(cube.view(), p);
+	ASSERT_TRUE(one.ok) << one.error;
+	ASSERT_EQ(one.levels[0].triangles, r.levels[0].triangles);
+	EXPECT_EQ(one.levels[0].stats.hausdorff, first.hausdorff);
+}
+
 TEST(Levels, the_output_does_not_depend_on_the_number_of_threads)
 {
 	for (const char *name : {"fandisk.off", "bunny00.off"}) {

@@ -473,10 +473,35 @@ bool LevelChain::build(int level, const Report &report, LevelMesh *&out)
 		if (!report(0.05 + 0.95 * (done + 0.5) / params_.maxLevel,
 		            "certifying the level's distance"))
 			return false;
-		certify(*in_.input, *out, inputTree_, topo_.diagonal, in_.threads);
+		certifyLevel(*out);
 	}
 	setTargetStats(params_, level, w.target, topo_.diagonal, *out);
 	return true;
+}
+
+// DESIGN 52: the level's certified distance, or the last certified level's where the level is
+// that mesh (compared whole: the same positions and triangles). Levels of up to a quarter of the
+// input's faces are kept for that comparison: identical levels are exact planar ones, small.
+void LevelChain::certifyLevel(LevelMesh &level)
+{
+	Certified &c = certified_;
+	LevelStats &st = level.stats;
+	if (c.hausdorff >= 0 && level.triangles == c.triangles && level.positions == c.positions) {
+		st.hausdorff = c.hausdorff;
+		st.hausdorffLower = c.lower;
+		st.hausdorffConverged = c.converged;
+		st.secondsHausdorff = 0;
+		return;
+	}
+	certify(*in_.input, level, inputTree_, topo_.diagonal, in_.threads);
+	c = Certified();
+	if (level.triangles.size() / 3 <= in_.inputFaces / 4) {
+		c.positions = level.positions;
+		c.triangles = level.triangles;
+		c.hausdorff = st.hausdorff;
+		c.lower = st.hausdorffLower;
+		c.converged = st.hausdorffConverged;
+	}
 }
 
 void LevelChain::handOn()

@@ -126,6 +126,15 @@ private:
 	FinerLevel finer_;
 	ExactCarry nextCarry_;
 	std::unique_ptr<TriangleTree> inputTree_; ///< DESIGN 52, built when first needed
+	/// DESIGN 52: the last level certified, if small (a copy), with its certificate: a level
+	/// that is the same mesh (exact planar levels often are) has the same distance to the input
+	struct Certified {
+		std::vector<double> positions;
+		std::vector<int32_t> triangles;
+		double hausdorff = -1, lower = -1;
+		bool converged = true;
+	} certified_;
+	void certifyLevel(LevelMesh &level);
 	std::unique_ptr<Work> work_;
 	double setup_ = 0;
 };
