@@ -11,8 +11,10 @@
 //   them, and the part of the piece over a triangle is bounded at that part's corners;
 // - split: the piece cut by planes between the candidate triangles (and those across their
 //   edges), each part bounded at its corners by the best candidate.
-// A piece whose bound is above (1 + eps) x the lower bound is cut in four at its edge midpoints
-// (new distances: the lower bound grows) until every piece is within the factor.
+// A cover proved above the target also gives its farthest point, whose exact distance raises the
+// lower bound (where the triangle over that point is the nearest one, to the bound itself). A
+// piece whose bound is still above (1 + eps) x the lower bound is cut in four at its edge
+// midpoints (new distances: the lower bound grows) until every piece is within the factor.
 #include "hausdorff_piece.h"
 
 #include <queue>
@@ -115,8 +117,10 @@ inline void splitPiece(const TriangleTree &to, const TrianglePiece &pc, double l
 	}
 	for (int k = 0; k < 3; ++k)
 		c[3].p[k] = m[k], c[3].d[k] = md[k], c[3].n[k] = mn[k], c[3].exact[k] = mx[k];
-	for (int k = 0; k < 4; ++k)
-		c[k].u = upperBound(to, c[k], target, c[k].by);
+	for (int k = 0; k < 4; ++k) {
+		c[k].seen = -1;
+		c[k].u = upperBound(to, c[k], target, c[k].by, &c[k].seen);
+	}
 }
 
 // Refinement of the queued pieces, a batch of the largest bounds at a time (the batch in
@@ -142,10 +146,12 @@ void refine(const TriangleTree &to, double factor, double known, size_t maxPiece
 			for (size_t i = b; i < e; ++i)
 				splitPiece(to, batch[i], low2, target, &kids[4 * i]);
 		});
-		for (const TrianglePiece &c : kids)
+		for (const TrianglePiece &c : kids) {
 			for (int k = 0; k < 3; ++k)
 				if (c.exact[k])
 					lower = std::max(lower, c.d[k]);
+			lower = std::max(lower, c.seen);
+		}
 		for (const TrianglePiece &c : kids) {
 			out.byCover += c.by == BoundBy::cover;
 			out.bySplit += c.by == BoundBy::split;
@@ -182,14 +188,19 @@ HausdorffBounds directedHausdorff(const TriangleTree &from, const TriangleTree &
 		lower = std::max(lower, vd[size_t(i)]);
 	// each triangle's bound; those above the factor into a queue, largest bound first
 	const double factor = 1 + eps;
-	std::vector<double> u(tris.size());
+	std::vector<double> u(tris.size()), seen(tris.size(), -1.0);
 	std::vector<BoundBy> by(tris.size());
 	parallelRanges(tris.size(), threads, [&](size_t b, size_t e, size_t) {
 		for (size_t i = b; i < e; ++i) {
 			const TrianglePiece pc = wholePiece(T, P, tris[i], vn, vd);
-			u[i] = upperBound(to, pc, factor * std::max(lower, known), by[i]);
+			u[i] = upperBound(to, pc, factor * std::max(lower, known), by[i], &seen[i]);
 		}
 	});
+	// (the distances met at the covers' farthest points, once all are bounded: the lower bound
+	// the same for any threads)
+	for (const double d : seen)
+		lower = std::max(lower, d);
+	release(seen);
 	auto enough = [&](double x) { return x <= factor * std::max(lower, known); };
 	double settled = lower; // (the largest bound of a piece not refined further)
 	std::priority_queue<TrianglePiece> queue;

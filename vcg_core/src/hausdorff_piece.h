@@ -17,7 +17,8 @@ struct TrianglePiece {
 	int32_t n[3];
 	bool exact[3]; ///< d is the distance to the whole set (else only to triangle n: above it)
 	double u;
-	BoundBy by; ///< which bound gave u
+	BoundBy by;        ///< which bound gave u
+	double seen = -1;  ///< an exact distance at a point of the piece met while bounding it (-1: none)
 	bool operator<(const TrianglePiece &o) const { return u < o.u; }
 };
 
@@ -40,8 +41,11 @@ inline int gather(const TriangleTree &to, const TrianglePiece &pc, int32_t *out)
 
 /// An upper bound of the distance to `to` over the piece, cheapest first (corners, cover,
 /// split; see hausdorff_bounds.cpp), and which bound gave it (`by`). The cover and split are
-/// tried only while the bound is above `target`.
-double upperBound(const TriangleTree &to, const TrianglePiece &pc, double target, BoundBy &by);
+/// tried only while the bound is above `target`. Where a cover is proved above the target, its
+/// farthest point's exact distance goes to `seen` (a lower bound of the distance: it lets the
+/// caller settle the piece without cutting it).
+double upperBound(const TriangleTree &to, const TrianglePiece &pc, double target, BoundBy &by,
+                  double *seen = nullptr);
 
 } // namespace detail
 } // namespace gausslod
