@@ -17,8 +17,9 @@ struct TrianglePiece {
 	int32_t n[3];
 	bool exact[3]; ///< d is the distance to the whole set (else only to triangle n: above it)
 	double u;
-	BoundBy by;        ///< which bound gave u
-	double seen = -1;  ///< an exact distance at a point of the piece met while bounding it (-1: none)
+	BoundBy by; ///< which bound gave u
+	double seen =
+	    -1; ///< an exact distance at a point of the piece met while bounding it (-1: none)
 	bool operator<(const TrianglePiece &o) const { return u < o.u; }
 };
 
