@@ -18,8 +18,8 @@ struct TrianglePiece {
 	bool exact[3]; ///< d is the distance to the whole set (else only to triangle n: above it)
 	double u;
 	BoundBy by; ///< which bound gave u
-	double seen =
-	    -1; ///< an exact distance at a point of the piece met while bounding it (-1: none)
+	/// an exact distance at a point of the piece met while bounding it (-1: none)
+	double seen = -1;
 	bool operator<(const TrianglePiece &o) const { return u < o.u; }
 };
 
