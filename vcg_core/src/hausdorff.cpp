@@ -132,7 +132,9 @@ void refine(const TriangleTree &to, double factor, double known, size_t maxPiece
             HausdorffBounds &out)
 {
 	auto enough = [&](double x) { return x <= factor * std::max(lower, known); };
-	const size_t batchMax = 256 * std::max<size_t>(threads, 1);
+	// (a batch's size must not depend on the thread count: its target and low2 are fixed at its
+	// start, so where it ends decides what its pieces are bounded against)
+	constexpr size_t batchMax = 512;
 	std::vector<TrianglePiece> batch, kids;
 	while (!queue.empty() && !enough(queue.top().u) && out.pieces < maxPieces) {
 		batch.clear();

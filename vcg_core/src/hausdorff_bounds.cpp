@@ -473,7 +473,7 @@ double upperBound(const TriangleTree &to, const TrianglePiece &pc, double target
 	if (u <= target)
 		return u;
 	by = BoundBy::cover;
-	Vec3 far;
+	Vec3 far = pc.p[0]; // (where every part's bound is 0, a point of the piece all the same)
 	// (with `seen`, a cover above the target is still proved, up to the corners' bound: its
 	// farthest point's exact distance may raise the caller's lower bound to it)
 	const double c = coverBound(to, pc, target, seen ? u : target, far);

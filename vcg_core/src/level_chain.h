@@ -36,7 +36,8 @@ double stepError(const Params &p, int level);
 /// within `target`, into lm, and its partition into parts[level] (`merged`: the merged
 /// partition before the geometry's fallbacks). `beat` >= 0: the farthest input vertex of the
 /// level's collapse candidate (DESIGN 55): the search stops where no build within the budget
-/// would come nearer (`lm` is then not placed, or not built: faces SIZE_MAX).
+/// would come nearer (`lm` is then not placed, or not built: faces SIZE_MAX; or stopped by
+/// Euler's bound over the budget the collapses reached: no triangles, faces a lower bound).
 void buildToFaceTarget(const Topology &topo, const Params &params, std::vector<Partition> &parts,
                        int level, size_t target, size_t faceLimit, const SplitCost *cost,
                        double beat, size_t threads, LevelMesh &lm, Partition &merged);

@@ -150,7 +150,8 @@ constexpr int kSearchSteps = 10;
 // geometry's fallbacks split it). If even the top tolerance gives more faces than the target,
 // that build is kept (the target is not reached). With `beat` >= 0 (mesh units: how near the
 // input the level's collapse candidate is) the search ends where no build could be chosen over
-// the collapses (`lm` is then not placed, or not built: faces SIZE_MAX). Deterministic: the
+// the collapses (`lm` is then not placed, or not built: faces SIZE_MAX, or stopped by Euler's
+// bound over a budget the collapses reached: no triangles, faces a lower bound). Deterministic: the
 // trials and the choice depend on face counts and distances only.
 void buildToFaceTarget(const Topology &topo, const Params &params, std::vector<Partition> &parts,
                        int level, size_t target, size_t faceLimit, const SplitCost *cost,
@@ -195,7 +196,8 @@ void buildToFaceTarget(const Topology &topo, const Params &params, std::vector<P
 	if (!outOfRace) {
 		// (the collapses reached the budget: a top build that cannot reach it is out of the
 		// race, and Euler's bound may say so before it triangulates, DESIGN 35)
-		reached = run(hi, beat > 0 ? std::min(faceLimit, target) : faceLimit) <= target;
+		reached =
+		    run(hi, beat > 0 && target > 0 ? std::min(faceLimit, target) : faceLimit) <= target;
 		outOfRace = beat > 0 && !reached;
 	}
 	if (reached && beat > 0 &&
